@@ -1,0 +1,179 @@
+#include "harness/cli.h"
+
+#include <fmt/format.h>
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/info.h>
+
+#include <CLI/CLI.hpp>
+#include <ostream>
+
+#include "harness/errors.h"
+#include "harness/list_command.h"
+#include "harness/plan.h"
+#include "harness/session.h"
+#include "harness/suite_file.h"
+#include "results/context.h"
+
+namespace pcbench {
+namespace {
+
+struct RunArguments {
+  std::string suite_path;
+  std::vector<std::string> estimators;
+  std::vector<std::string> integrands;
+  std::vector<std::string> params;  // key=value
+  std::uint64_t samples = 0;
+  std::uint32_t replicates = 0;
+  std::uint64_t seed = kDefaultSeed;
+  unsigned threads = 0;
+  std::string out_dir;
+  bool quiet = false;
+};
+
+bool is_numeric_key(const std::string& key, const GridRequest& grid) {
+  const auto numeric_in = [&](const std::vector<ParamSpec>& specs) {
+    for (const ParamSpec& spec : specs) {
+      if (spec.name == key) return spec.type == ParamType::kInt || spec.type == ParamType::kReal;
+    }
+    return false;
+  };
+  for (const std::string& name : grid.estimators) {
+    if (numeric_in(find_estimator(name).params)) return true;
+  }
+  for (const std::string& name : grid.integrands) {
+    if (numeric_in(find_integrand(name).params)) return true;
+  }
+  return false;
+}
+
+// The one-run form as a grid: `--param M=1,4,16` gives three runs. Only numeric keys are split on
+// commas, so an expression such as f=min(x0,y0) stays whole.
+GridRequest grid_from_flags(const RunArguments& args) {
+  GridRequest grid;
+  grid.where = "command line";
+  grid.estimators = args.estimators;
+  grid.integrands = args.integrands;
+  if (grid.estimators.empty()) throw InputError("command line: --estimator is required (or give a suite file)");
+  if (grid.integrands.empty()) throw InputError("command line: --integrand is required (or give a suite file)");
+  for (const std::string& param : args.params) {
+    const auto equals = param.find('=');
+    if (equals == std::string::npos || equals == 0) {
+      throw InputError(fmt::format("command line: --param '{}': expected key=value", param));
+    }
+    const std::string key = param.substr(0, equals);
+    const std::string value = param.substr(equals + 1);
+    if (grid.params.count(key)) {
+      throw InputError(fmt::format("command line: --param '{}' is given twice", key));
+    }
+    std::vector<std::string>& values = grid.params[key];
+    if (!is_numeric_key(key, grid)) {
+      values.push_back(value);
+      continue;
+    }
+    std::size_t start = 0;
+    while (true) {
+      const auto comma = value.find(',', start);
+      values.push_back(value.substr(start, comma - start));
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  }
+  return grid;
+}
+
+int run_command(const RunArguments& args, const CLI::App& run_app,
+                const std::vector<std::string>& argv, std::ostream& out, std::ostream& err,
+                const std::atomic<bool>* interrupted) {
+  const bool one_run = !args.estimators.empty() || !args.integrands.empty() || !args.params.empty();
+  if (one_run && !args.suite_path.empty()) {
+    throw InputError("command line: give a suite file or --estimator/--integrand, not both");
+  }
+  if (!one_run && args.suite_path.empty()) {
+    throw InputError("command line: give a suite file or --estimator and --integrand");
+  }
+
+  std::vector<GridRequest> grids;
+  BudgetDefaults budget;
+  SessionOptions session;
+  session.seed = args.seed;
+  if (!args.suite_path.empty()) {
+    SuiteRequest suite = load_suite(args.suite_path);
+    grids = std::move(suite.grids);
+    session.suite_name = suite.name;
+    if (suite.samples) budget.samples = *suite.samples;
+    if (suite.replicates) budget.replicates = *suite.replicates;
+    if (suite.seed && run_app.count("--seed") == 0) session.seed = *suite.seed;
+  } else {
+    grids.push_back(grid_from_flags(args));
+  }
+  // Options given on the command line override the suite's defaults and its rows.
+  if (run_app.count("--samples")) budget.forced_samples = args.samples;
+  if (run_app.count("--replicates")) budget.forced_replicates = args.replicates;
+
+  const std::vector<RunPlan> plans = plan_runs(grids, budget);
+
+  session.threads = args.threads > 0 ? args.threads
+                                     : static_cast<unsigned>(tbb::info::default_concurrency());
+  session.quiet = args.quiet;
+  session.argv = argv;
+  session.interrupted = interrupted;
+  if (!args.out_dir.empty()) session.out_dir = args.out_dir;
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
+  return run_session(plans, session, out, err);
+}
+
+}  // namespace
+
+int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+            const std::atomic<bool>* interrupted) {
+  CLI::App app{"pcbench: benchmarks and verifies Monte Carlo light-transport estimators", "pcbench"};
+  app.set_version_flag("--version", std::string("pcbench ") + pcbench_version());
+  app.require_subcommand(1);
+
+  bool list_json = false;
+  CLI::App* list = app.add_subcommand("list", "estimators, integrands and scenes, with parameters");
+  list->add_flag("--json", list_json, "print as JSON");
+
+  RunArguments run_args;
+  CLI::App* run = app.add_subcommand("run", "run a suite file, or one estimator on one integrand");
+  run->add_option("suite", run_args.suite_path, "suite file (JSON)");
+  run->add_option("--estimator,-e", run_args.estimators, "estimator(s); a comma list is a grid")
+      ->delimiter(',');
+  run->add_option("--integrand,-i", run_args.integrands, "integrand(s); a comma list is a grid")
+      ->delimiter(',');
+  run->add_option("--param,-p", run_args.params,
+                  "key=value, repeatable; numeric values may be comma lists (a grid)");
+  run->add_option("--samples,-n", run_args.samples, "camera samples per replicate (default 100000)")
+      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
+  run->add_option("--replicates,-r", run_args.replicates, "independent replicates (default 32)")
+      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
+  run->add_option("--seed,-s", run_args.seed, "seed (default 1)");
+  run->add_option("--threads,-t", run_args.threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(1u, 1024u));
+  run->add_option("--out,-o", run_args.out_dir,
+                  "output folder (default results/runs/<date-time>/, linked as results/latest)");
+  run->add_flag("--quiet,-q", run_args.quiet, "no progress and no summary table");
+
+  std::vector<std::string> reversed(args.rbegin(), args.rend());
+  try {
+    app.parse(reversed);  // CLI11 takes a vector of arguments in reverse order
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e, out, err);
+    return code == 0 ? kExitOk : kExitBadInput;
+  }
+
+  std::vector<std::string> argv = {"pcbench"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  try {
+    if (list->parsed()) {
+      print_registry(out, list_json);
+      return kExitOk;
+    }
+    return run_command(run_args, *run, argv, out, err, interrupted);
+  } catch (const InputError& e) {
+    err << "pcbench: error: " << e.what() << "\n";
+    return kExitBadInput;
+  }
+}
+
+}  // namespace pcbench

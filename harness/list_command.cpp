@@ -1,0 +1,75 @@
+#include "harness/list_command.h"
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "estimators/registry.h"
+#include "integrands/registry.h"
+
+namespace pcbench {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json params_json(const std::vector<ParamSpec>& specs) {
+  Json out = Json::array();
+  for (const ParamSpec& spec : specs) {
+    out.push_back(Json{{"name", spec.name},
+                       {"type", describe_type(spec)},
+                       {"default", spec.required || spec.optional ? Json(nullptr)
+                                                                  : Json(spec.default_value)},
+                       {"required", spec.required},
+                       {"description", spec.description}});
+  }
+  return out;
+}
+
+void print_params(std::ostream& out, const std::vector<ParamSpec>& specs) {
+  for (const ParamSpec& spec : specs) {
+    std::string default_text = spec.required   ? "required"
+                               : spec.optional ? "optional"
+                                               : "default " + spec.default_value;
+    out << fmt::format("      {:<12} {} ({}; {})\n", spec.name, spec.description,
+                       describe_type(spec), default_text);
+  }
+}
+
+}  // namespace
+
+void print_registry(std::ostream& out, bool as_json) {
+  if (as_json) {
+    Json estimators = Json::array();
+    for (const EstimatorEntry& e : estimator_registry()) {
+      estimators.push_back(Json{{"name", e.name},
+                                {"biased", e.biased},
+                                {"params", params_json(e.params)},
+                                {"description", e.description}});
+    }
+    Json integrands = Json::array();
+    for (const IntegrandEntry& i : integrand_registry()) {
+      integrands.push_back(Json{{"name", i.name},
+                                {"params", params_json(i.params)},
+                                {"exact", i.exact},
+                                {"description", i.description}});
+    }
+    out << Json{{"estimators", estimators}, {"integrands", integrands}, {"scenes", Json::array()}}
+                   .dump(2)
+        << "\n";
+    return;
+  }
+  out << "estimators:\n";
+  for (const EstimatorEntry& e : estimator_registry()) {
+    out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
+    print_params(out, e.params);
+  }
+  out << "integrands:\n";
+  for (const IntegrandEntry& i : integrand_registry()) {
+    out << fmt::format("  {:<20} {}{}\n", i.name, i.exact ? "[exact] " : "", i.description);
+    print_params(out, i.params);
+  }
+  out << "scenes:\n  (none yet)\n";
+}
+
+}  // namespace pcbench

@@ -1,0 +1,169 @@
+#include "harness/plan.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <set>
+
+#include "harness/errors.h"
+
+namespace pcbench {
+
+const std::vector<std::string> kExpectations = {"consistent", "biased", "inconclusive"};
+
+namespace {
+
+constexpr std::uint64_t kFnvOffset = 0xCBF29CE484222325ull;
+constexpr std::uint64_t kFnvPrime = 0x100000001B3ull;
+
+std::uint64_t fnv1a(std::uint64_t hash, const std::string& text) {
+  for (const unsigned char c : text) {
+    hash ^= c;
+    hash *= kFnvPrime;
+  }
+  // A separator byte that text cannot produce, so that ("ab","c") and ("a","bc") differ.
+  hash ^= 0xFF;
+  return hash * kFnvPrime;
+}
+
+bool declares(const std::vector<ParamSpec>& specs, const std::string& key) {
+  return std::any_of(specs.begin(), specs.end(),
+                     [&](const ParamSpec& spec) { return spec.name == key; });
+}
+
+std::vector<std::string> spec_names(const std::vector<ParamSpec>& specs) {
+  std::vector<std::string> names;
+  for (const ParamSpec& spec : specs) names.push_back(spec.name);
+  return names;
+}
+
+std::string names_or_none(const std::vector<ParamSpec>& specs) {
+  return specs.empty() ? std::string("none") : join_names(spec_names(specs));
+}
+
+struct Row {
+  const EstimatorEntry* estimator;
+  const IntegrandEntry* integrand;
+  ParamText params;
+};
+
+// Expands one grid into rows; a key the row's estimator and integrand do not read is dropped for
+// that row, and a key no row reads is an error (a typo would otherwise vanish silently).
+std::vector<Row> expand(const GridRequest& grid) {
+  if (grid.estimators.empty()) throw InputError(grid.where + ": no estimator given");
+  if (grid.integrands.empty()) throw InputError(grid.where + ": no integrand given");
+  std::vector<Row> rows;
+  std::set<std::string> keys_read;
+  for (const std::string& estimator_name : grid.estimators) {
+    const EstimatorEntry& estimator = find_estimator(estimator_name);
+    for (const std::string& integrand_name : grid.integrands) {
+      const IntegrandEntry& integrand = find_integrand(integrand_name);
+      std::vector<ParamText> partial = {{}};
+      for (const auto& [key, values] : grid.params) {
+        if (!declares(estimator.params, key) && !declares(integrand.params, key)) continue;
+        keys_read.insert(key);
+        if (values.empty()) throw InputError(fmt::format("{}: parameter '{}' has no values",
+                                                         grid.where, key));
+        std::vector<ParamText> next;
+        for (const ParamText& base : partial) {
+          for (const std::string& value : values) {
+            ParamText row = base;
+            row[key] = value;
+            next.push_back(std::move(row));
+          }
+        }
+        partial = std::move(next);
+      }
+      for (ParamText& params : partial) rows.push_back({&estimator, &integrand, std::move(params)});
+    }
+  }
+  for (const auto& [key, values] : grid.params) {
+    if (keys_read.count(key)) continue;
+    std::string readers;
+    for (const std::string& name : grid.estimators) {
+      readers += fmt::format("; estimator '{}' reads: {}", name,
+                             names_or_none(find_estimator(name).params));
+    }
+    for (const std::string& name : grid.integrands) {
+      readers += fmt::format("; integrand '{}' reads: {}", name,
+                             names_or_none(find_integrand(name).params));
+    }
+    throw InputError(
+        fmt::format("{}: parameter '{}' is read by no estimator or integrand{}", grid.where, key,
+                    readers));
+  }
+  return rows;
+}
+
+}  // namespace
+
+std::uint64_t run_id_hash(const std::string& estimator, const std::string& integrand,
+                          const std::map<std::string, std::string>& effective_params,
+                          std::uint64_t samples, std::uint32_t replicates) {
+  std::uint64_t hash = fnv1a(kFnvOffset, "pcbench-run-v1");
+  hash = fnv1a(hash, estimator);
+  hash = fnv1a(hash, integrand);
+  for (const auto& [key, value] : effective_params) hash = fnv1a(fnv1a(hash, key), value);
+  hash = fnv1a(hash, fmt::format("samples={}", samples));
+  return fnv1a(hash, fmt::format("replicates={}", replicates));
+}
+
+std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
+                               const BudgetDefaults& budget) {
+  std::vector<RunPlan> plans;
+  std::set<std::uint64_t> seen;
+  for (const GridRequest& grid : grids) {
+    if (grid.expect &&
+        std::find(kExpectations.begin(), kExpectations.end(), *grid.expect) == kExpectations.end()) {
+      throw InputError(fmt::format("{}: expect '{}' is not valid; valid: {}", grid.where,
+                                   *grid.expect, join_names(kExpectations)));
+    }
+    for (Row& row : expand(grid)) {
+      RunPlan plan;
+      plan.where = grid.where;
+      plan.estimator = row.estimator;
+      plan.integrand = row.integrand;
+      plan.estimator_params =
+          resolve_params(row.estimator->params, row.params,
+                         fmt::format("{}: estimator '{}'", grid.where, row.estimator->name));
+      plan.integrand_params =
+          resolve_params(row.integrand->params, row.params,
+                         fmt::format("{}: integrand '{}'", grid.where, row.integrand->name));
+      plan.samples = budget.forced_samples.value_or(grid.samples.value_or(budget.samples));
+      plan.replicates =
+          budget.forced_replicates.value_or(grid.replicates.value_or(budget.replicates));
+      if (plan.samples < 1 || plan.samples > kMaxSamples) {
+        throw InputError(fmt::format("{}: samples = {} is out of range [1, {}]", grid.where,
+                                     plan.samples, kMaxSamples));
+      }
+      if (plan.replicates < 2 || plan.replicates > kMaxReplicates) {
+        throw InputError(fmt::format(
+            "{}: replicates = {} is out of range [2, {}] (tests need the spread across at least "
+            "two replicates)",
+            grid.where, plan.replicates, kMaxReplicates));
+      }
+      plan.expect = grid.expect;
+
+      std::map<std::string, std::string> effective;
+      for (const auto& [key, value] : plan.estimator_params.values()) effective[key] = to_text(value);
+      for (const auto& [key, value] : plan.integrand_params.values()) effective[key] = to_text(value);
+      plan.id_hash = run_id_hash(row.estimator->name, row.integrand->name, effective, plan.samples,
+                                 plan.replicates);
+      if (!seen.insert(plan.id_hash).second) continue;  // identical rows collapse into one
+      plan.id = fmt::format("{:016x}", plan.id_hash);
+
+      const std::string where =
+          fmt::format("{}: {} × {}", grid.where, row.estimator->name, row.integrand->name);
+      try {
+        plan.made_estimator = row.estimator->make(plan.estimator_params);
+        plan.made_integrand = row.integrand->make(plan.integrand_params);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", where, e.what()));
+      }
+      plans.push_back(std::move(plan));
+    }
+  }
+  return plans;
+}
+
+}  // namespace pcbench

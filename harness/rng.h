@@ -1,0 +1,76 @@
+// Counter-based random numbers: Philox4x32-10 (Salmon et al., "Parallel random numbers: as easy as
+// 1, 2, 3", SC 2011).
+//
+// Every random number pcbench uses is a pure function of (key, counter). The key comes from the
+// seed and the run id; the counter names what the number is for: replicate, purpose (pool, camera
+// path, resampling draw), the sample (or batch) index, the path within it, and the dimension.
+// Nothing depends on which thread asks, in which order, or what ran before, so a run's numbers
+// are the same for any thread count, suite order or sharding.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+namespace pcbench {
+
+using PhiloxCounter = std::array<std::uint32_t, 4>;
+using PhiloxKey = std::array<std::uint32_t, 2>;
+
+// One Philox4x32 block: 4 independent 32-bit outputs for one (counter, key).
+PhiloxCounter philox4x32_10(PhiloxCounter counter, PhiloxKey key);
+
+// What a stream of numbers is used for. Each purpose gets disjoint counters, so that no
+// resampling draw reuses the numbers that made a pool (INTERFACE.md, "Determinism").
+enum class StreamPurpose : std::uint8_t {
+  kLightPool = 1,    // the M light paths a camera path may connect to
+  kCameraPath = 2,   // the camera path y of a sample
+  kResampling = 3,   // draws xi_k from the pool
+  kEstimatorAux = 4  // anything else an estimator needs (e.g. stochastic mixing)
+};
+
+// 64-bit key of one run under one seed: mixes the seed with the run id so that two runs of a
+// suite never share numbers, while a run's numbers do not depend on its place in the suite.
+std::uint64_t run_key(std::uint64_t seed, std::uint64_t run_id_hash);
+
+// Names one stream: a sequence of uniforms for one path of one sample of one replicate.
+struct StreamId {
+  std::uint64_t key = 0;
+  std::uint32_t replicate = 0;  // < 2^24
+  StreamPurpose purpose = StreamPurpose::kLightPool;
+  std::uint32_t sample = 0;  // sample index, or batch index for a shared pool
+  std::uint32_t path = 0;    // path within the sample's pool, draw index, ...
+};
+
+// A stream of uniforms in [0, 1) from consecutive Philox blocks. Cheap to construct: make one
+// per path rather than sharing one across paths, so that the dimensions one path consumes never
+// shift the numbers of another.
+class RandomStream {
+ public:
+  explicit RandomStream(const StreamId& id);
+
+  // Uniform double in [0, 1) with 53 random bits; never returns 1.
+  double uniform() {
+    if (next_ > 2) refill();  // needs two words
+    const std::uint64_t hi = block_[next_];
+    const std::uint64_t lo = block_[next_ + 1];
+    next_ += 2;
+    return static_cast<double>(((hi << 32) | lo) >> 11) * 0x1.0p-53;
+  }
+
+  // Uniform integer in [0, n) for n >= 1 (Lemire's multiply-shift; bias < n / 2^32).
+  std::uint32_t uniform_index(std::uint32_t n) {
+    if (next_ >= 4) refill();
+    const std::uint64_t r = block_[next_++];
+    return static_cast<std::uint32_t>((r * n) >> 32);
+  }
+
+ private:
+  void refill();
+
+  PhiloxKey key_;
+  PhiloxCounter counter_;  // counter_[0] counts blocks
+  PhiloxCounter block_{};
+  int next_ = 4;
+};
+
+}  // namespace pcbench

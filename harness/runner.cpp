@@ -1,0 +1,166 @@
+#include "harness/runner.h"
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <exception>
+
+#include <fmt/format.h>
+
+#include "harness/tally.h"
+
+namespace pcbench {
+
+const char* to_string(RunStatus status) {
+  switch (status) {
+    case RunStatus::kOk:
+      return "ok";
+    case RunStatus::kInvalid:
+      return "invalid";
+    case RunStatus::kError:
+      return "error";
+    case RunStatus::kNotRun:
+      return "not_run";
+  }
+  return "error";
+}
+
+namespace {
+
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double wall_seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// What one thread reuses across the chunks it runs.
+struct ThreadState {
+  std::unique_ptr<PathWorkspace> paths;
+  EstimatorScratch scratch;
+  std::vector<double> estimates;
+  Counters counters;
+};
+
+struct ChunkResult {
+  Tally tally;
+  double seconds = 0.0;
+  double cpu_seconds = 0.0;
+  bool done = false;
+};
+
+}  // namespace
+
+std::uint32_t chunk_size(std::uint64_t samples) {
+  // At most 64 chunks per replicate keeps the merge cheap; at least 16 batches per chunk keeps
+  // the per-chunk overhead small. Both depend on N only.
+  const std::uint64_t per_chunk = std::max<std::uint64_t>(16 * kBatchSize, (samples + 63) / 64);
+  const std::uint64_t rounded = (per_chunk + kBatchSize - 1) / kBatchSize * kBatchSize;
+  return static_cast<std::uint32_t>(std::min<std::uint64_t>(rounded, 1u << 30));
+}
+
+RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
+  RunResult result;
+  result.reference = plan.made_integrand->reference();
+  const auto run_start = std::chrono::steady_clock::now();
+
+  const std::uint64_t samples = plan.samples;
+  const std::uint32_t chunk = chunk_size(samples);
+  const std::uint64_t chunks_per_replicate = (samples + chunk - 1) / chunk;
+  const std::uint64_t task_count = chunks_per_replicate * plan.replicates;
+  std::vector<ChunkResult> chunks(task_count);
+
+  const std::uint64_t key = run_key(options.seed, plan.id_hash);
+  const Estimator& estimator = *plan.made_estimator;
+  const Integrand& integrand = *plan.made_integrand;
+  tbb::enumerable_thread_specific<ThreadState> threads;
+
+  const auto run_chunk = [&](std::uint64_t task) {
+    if (options.interrupted != nullptr && options.interrupted->load()) return;
+    const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = thread_cpu_seconds();
+    ThreadState& state = threads.local();
+    if (!state.paths) state.paths = integrand.make_workspace();
+    state.estimates.resize(kBatchSize);
+
+    const auto replicate = static_cast<std::uint32_t>(task / chunks_per_replicate);
+    const std::uint64_t first = (task % chunks_per_replicate) * chunk;
+    const std::uint64_t end = std::min<std::uint64_t>(first + chunk, samples);
+    ChunkResult& out = chunks[task];
+    for (std::uint64_t batch = first; batch < end; batch += kBatchSize) {
+      BatchContext ctx{.key = key,
+                       .replicate = replicate,
+                       .first_sample = static_cast<std::uint32_t>(batch),
+                       .sample_count = static_cast<std::uint32_t>(
+                           std::min<std::uint64_t>(kBatchSize, end - batch)),
+                       .counters = &state.counters};
+      const std::span<double> estimates(state.estimates.data(), ctx.sample_count);
+      estimator.estimate_batch(ctx, *state.paths, state.scratch, estimates);
+      for (std::uint32_t i = 0; i < ctx.sample_count; ++i) out.tally.add(estimates[i], batch + i);
+    }
+    out.cpu_seconds = thread_cpu_seconds() - cpu_start;
+    out.seconds = wall_seconds_since(start);
+    out.done = true;
+  };
+
+  try {
+    tbb::parallel_for(
+        tbb::blocked_range<std::uint64_t>(0, task_count, 1),
+        [&](const tbb::blocked_range<std::uint64_t>& range) {
+          for (std::uint64_t task = range.begin(); task != range.end(); ++task) run_chunk(task);
+        },
+        tbb::simple_partitioner());
+  } catch (const std::exception& e) {
+    result.status = RunStatus::kError;
+    result.error = e.what();
+    result.wall_seconds = wall_seconds_since(run_start);
+    return result;
+  }
+  result.wall_seconds = wall_seconds_since(run_start);
+  for (const ThreadState& state : threads) result.counters.add(state.counters);
+
+  if (!std::all_of(chunks.begin(), chunks.end(), [](const ChunkResult& c) { return c.done; })) {
+    result.status = RunStatus::kNotRun;
+    result.error = "interrupted before the run finished";
+    return result;
+  }
+
+  // Merge chunks in sample order: the same floating-point operations for any thread count.
+  result.replicates.resize(plan.replicates);
+  for (std::uint32_t r = 0; r < plan.replicates; ++r) {
+    Tally tally;
+    ReplicateResult& rep = result.replicates[r];
+    for (std::uint64_t c = 0; c < chunks_per_replicate; ++c) {
+      const ChunkResult& part = chunks[r * chunks_per_replicate + c];
+      tally.merge(part.tally);
+      rep.seconds += part.seconds;
+      rep.cpu_seconds += part.cpu_seconds;
+    }
+    rep.estimate = tally.mean();
+    rep.variance = tally.variance();
+    rep.n = tally.count();
+    rep.nonfinite = tally.nonfinite_count();
+    rep.first_nonfinite_sample = tally.first_nonfinite_sample();
+    std::array<double, LargestValues::kCapacity> largest{};
+    rep.largest.assign(largest.begin(), largest.begin() + static_cast<std::ptrdiff_t>(
+                                                              tally.largest().sorted(largest)));
+    if (rep.first_nonfinite_sample && !result.first_nonfinite) {
+      result.first_nonfinite = NonfiniteLocation{options.seed, r, *rep.first_nonfinite_sample};
+    }
+  }
+  result.status = result.first_nonfinite ? RunStatus::kInvalid : RunStatus::kOk;
+  if (result.first_nonfinite) {
+    result.error = fmt::format("non-finite sample estimate (first at seed {}, replicate {}, sample {})",
+                               options.seed, result.first_nonfinite->replicate,
+                               result.first_nonfinite->sample);
+  }
+  return result;
+}
+
+}  // namespace pcbench

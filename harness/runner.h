@@ -1,0 +1,60 @@
+// Runs one plan: R replicates × N camera samples, in parallel over fixed chunks of samples.
+//
+// The chunking depends only on N, never on the thread count, and chunk tallies are merged in
+// sample order, so the numbers are bitwise identical for any number of threads.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "estimators/estimator.h"
+#include "harness/plan.h"
+#include "integrands/integrand.h"
+
+namespace pcbench {
+
+enum class RunStatus { kOk, kInvalid, kError, kNotRun };
+const char* to_string(RunStatus status);
+
+struct ReplicateResult {
+  double estimate = 0.0;  // mean of the N per-sample estimates (non-finite ones included)
+  double variance = 0.0;  // sample variance of the per-sample estimates
+  std::uint64_t n = 0;
+  std::uint64_t nonfinite = 0;
+  std::optional<std::uint64_t> first_nonfinite_sample;
+  double seconds = 0.0;      // wall time of this replicate's chunks, summed
+  double cpu_seconds = 0.0;  // thread CPU time of this replicate's chunks, summed
+  std::vector<double> largest;  // the largest |per-sample estimate|, largest first
+};
+
+struct NonfiniteLocation {
+  std::uint64_t seed = 0;
+  std::uint32_t replicate = 0;
+  std::uint64_t sample = 0;
+};
+
+struct RunResult {
+  RunStatus status = RunStatus::kNotRun;
+  std::string error;
+  Reference reference;
+  std::vector<ReplicateResult> replicates;
+  Counters counters;
+  double wall_seconds = 0.0;
+  std::optional<NonfiniteLocation> first_nonfinite;
+};
+
+struct RunnerOptions {
+  std::uint64_t seed = kDefaultSeed;
+  const std::atomic<bool>* interrupted = nullptr;  // polled between chunks
+};
+
+// Camera samples per estimator call, and the chunk (unit of parallel work) for N samples.
+inline constexpr std::uint32_t kBatchSize = 256;
+std::uint32_t chunk_size(std::uint64_t samples);
+
+RunResult execute_run(const RunPlan& plan, const RunnerOptions& options);
+
+}  // namespace pcbench

@@ -1,0 +1,112 @@
+#include "harness/session.h"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <chrono>
+#include <ctime>
+#include <filesystem>
+#include <ostream>
+
+#include <unistd.h>
+
+#include "harness/statistics.h"
+#include "harness/summary.h"
+#include "results/report.h"
+
+namespace pcbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+// results/runs/<UTC date-time>[-k]: a new folder name, never an existing one.
+fs::path default_run_folder() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  std::array<char, 32> stamp{};
+  std::strftime(stamp.data(), stamp.size(), "%Y%m%d-%H%M%S", &tm);
+  const fs::path runs = fs::path("results") / "runs";
+  fs::path folder = runs / stamp.data();
+  for (int k = 2; fs::exists(folder); ++k) folder = runs / fmt::format("{}-{}", stamp.data(), k);
+  return folder;
+}
+
+// Points results/latest at `folder`, replacing the old link atomically.
+void update_latest_link(const fs::path& folder) {
+  const fs::path link = fs::path("results") / "latest";
+  const fs::path temporary = fs::path("results") / fmt::format(".latest.{}", ::getpid());
+  std::error_code ignored;
+  fs::remove(temporary, ignored);
+  fs::create_directory_symlink(fs::relative(folder, "results"), temporary);
+  fs::rename(temporary, link);
+}
+
+std::string default_expectation(const RunPlan& plan, const Reference& reference) {
+  if (plan.expect) return *plan.expect;
+  if (plan.estimator->biased) return "biased";
+  return reference.kind == ReferenceKind::kNone ? "inconclusive" : "consistent";
+}
+
+}  // namespace
+
+int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options,
+                std::ostream& out, std::ostream& err) {
+  std::vector<RunRecord> records;
+  records.reserve(plans.size());
+  bool interrupted = false;
+  for (const RunPlan& plan : plans) {
+    RunRecord record;
+    record.plan = &plan;
+    if (options.interrupted != nullptr && options.interrupted->load()) interrupted = true;
+    if (interrupted) {
+      record.result.status = RunStatus::kNotRun;
+      record.result.reference = plan.made_integrand->reference();
+      record.result.error = "interrupted before the run started";
+    } else {
+      if (!options.quiet) {
+        err << fmt::format("running {} × {} ({} samples × {} replicates)\n", plan.estimator->name,
+                           plan.integrand->name, plan.samples, plan.replicates);
+      }
+      record.result = execute_run(plan, {.seed = options.seed, .interrupted = options.interrupted});
+      if (record.result.status == RunStatus::kNotRun) interrupted = true;
+    }
+    if (record.result.status == RunStatus::kOk) {
+      record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
+      record.verdict = test_against_reference(record.result.replicates, record.result.reference,
+                                              default_expectation(plan, record.result.reference));
+    } else if (record.result.status == RunStatus::kInvalid) {
+      record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
+    }
+    records.push_back(std::move(record));
+  }
+
+  std::vector<Verdict*> family;
+  for (RunRecord& record : records) family.push_back(record.verdict ? &*record.verdict : nullptr);
+  decide_family(family, options.alpha);
+
+  const bool default_folder = !options.out_dir.has_value();
+  const fs::path folder = default_folder ? default_run_folder() : fs::path(*options.out_dir);
+  const fs::path report_path = folder / "report.json";
+  const Context context = gather_context(options.argv, options.seed, options.threads);
+  write_file_atomically(report_path, report_json(context, options.suite_name, records));
+  if (default_folder) update_latest_link(folder);
+
+  if (!options.quiet) print_summary(records, out);
+  out << "report: " << report_path.string() << "\n";
+
+  bool differs = false;
+  bool failed = false;
+  for (const RunRecord& record : records) {
+    if (record.verdict && record.verdict->result != record.verdict->expect) differs = true;
+    if (record.result.status == RunStatus::kError || record.result.status == RunStatus::kInvalid) {
+      failed = true;
+    }
+  }
+  if (interrupted) return kExitInterrupted;
+  if (differs) return kExitVerdictDiffers;
+  if (failed) return kExitRunFailed;
+  return kExitOk;
+}
+
+}  // namespace pcbench

@@ -1,0 +1,39 @@
+// One invocation of `pcbench run`: execute the planned runs in order, test them as one family,
+// write the report atomically, print the summary and decide the exit status.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/plan.h"
+
+namespace pcbench {
+
+// Exit statuses (INTERFACE.md).
+enum ExitStatus : int {
+  kExitOk = 0,
+  kExitVerdictDiffers = 1,
+  kExitBadInput = 2,
+  kExitRunFailed = 3,
+  kExitInterrupted = 130
+};
+
+struct SessionOptions {
+  std::string suite_name = "command line";
+  std::uint64_t seed = kDefaultSeed;
+  unsigned threads = 0;
+  std::optional<std::string> out_dir;  // default: results/runs/<date-time>/ + results/latest
+  bool quiet = false;
+  double alpha = 0.01;
+  std::vector<std::string> argv;
+  const std::atomic<bool>* interrupted = nullptr;
+};
+
+int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options,
+                std::ostream& out, std::ostream& err);
+
+}  // namespace pcbench

@@ -1,0 +1,148 @@
+#include "harness/statistics.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <boost/math/distributions/students_t.hpp>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "harness/tally.h"
+
+namespace pcbench {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct Spread {
+  double mean = kNaN;
+  double variance = kNaN;  // of one replicate's estimate, n - 1 in the denominator
+};
+
+Spread spread(const std::vector<ReplicateResult>& replicates) {
+  Tally tally;
+  for (std::size_t r = 0; r < replicates.size(); ++r) tally.add(replicates[r].estimate, r);
+  return {tally.mean(), tally.variance()};
+}
+
+double t_quantile(double probability, double dof) {
+  return boost::math::quantile(boost::math::students_t(dof), probability);
+}
+
+}  // namespace
+
+double student_t_p_value(double t, double dof) {
+  if (std::isnan(t)) return kNaN;
+  if (std::isinf(t)) return 0.0;
+  return 2.0 * boost::math::cdf(boost::math::complement(boost::math::students_t(dof), std::fabs(t)));
+}
+
+Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Reference& reference,
+                     std::uint64_t samples_per_replicate) {
+  Aggregates out;
+  const double count = static_cast<double>(replicates.size());
+  const Spread s = spread(replicates);
+  out.mean = s.mean;
+  out.stderr_of_mean = std::sqrt(s.variance / count);
+  const bool has_reference = reference.kind != ReferenceKind::kNone;
+  if (has_reference) {
+    out.bias = s.mean - reference.value;
+    CompensatedSum squared_error;
+    for (const ReplicateResult& rep : replicates) {
+      const double error = rep.estimate - reference.value;
+      squared_error.add(error * error);
+    }
+    const double mse = squared_error.value() / count;
+    out.rmse = std::sqrt(mse);
+    out.rel_mse = reference.value != 0.0 ? mse / (reference.value * reference.value) : kNaN;
+  } else {
+    out.bias = out.rmse = out.rel_mse = kNaN;
+  }
+  double cpu = 0.0;
+  for (const ReplicateResult& rep : replicates) cpu += rep.cpu_seconds;
+  const double total_samples = count * static_cast<double>(samples_per_replicate);
+  out.seconds_per_sample = cpu / total_samples;
+  // Per-sample variance from the across-replicate spread: Var[one sample] = N Var[replicate].
+  const double per_sample_variance = s.variance * static_cast<double>(samples_per_replicate);
+  out.efficiency = 1.0 / (per_sample_variance * out.seconds_per_sample);
+  return out;
+}
+
+Verdict test_against_reference(const std::vector<ReplicateResult>& replicates,
+                               const Reference& reference, std::string expect) {
+  Verdict v;
+  v.expect = std::move(expect);
+  if (reference.kind == ReferenceKind::kNone) {
+    v.test = "none";
+    v.statistic = v.dof = v.p_value = v.p_adjusted = kNaN;
+    v.min_detectable_bias = v.min_detectable_rel_bias = kNaN;
+    v.result = "inconclusive";
+    v.reason = "no reference value to test against";
+    return v;
+  }
+  const double count = static_cast<double>(replicates.size());
+  const Spread s = spread(replicates);
+  const double se2 = s.variance / count;
+  const double bias = s.mean - reference.value;
+  v.tested = true;
+  if (reference.uncertainty > 0.0) {
+    // Welch: the reference carries its own standard error; Welch–Satterthwaite dof.
+    const double u2 = reference.uncertainty * reference.uncertainty;
+    v.test = "welch";
+    v.dof = (se2 + u2) * (se2 + u2) / (se2 * se2 / (count - 1.0) + u2 * u2 / reference.dof);
+    v.test_stderr = std::sqrt(se2 + u2);
+  } else {
+    v.test = "student_t";
+    v.dof = count - 1.0;
+    v.test_stderr = std::sqrt(se2);
+  }
+  v.statistic = bias / v.test_stderr;
+  v.reference_value = reference.value;
+  if (se2 == 0.0 && reference.uncertainty == 0.0) {
+    // Every replicate gave the same number: the test is exact.
+    v.statistic = bias == 0.0 ? 0.0 : std::copysign(std::numeric_limits<double>::infinity(), bias);
+    v.p_value = bias == 0.0 ? 1.0 : 0.0;
+  } else {
+    v.p_value = student_t_p_value(v.statistic, v.dof);
+  }
+  return v;
+}
+
+void decide_family(std::vector<Verdict*>& verdicts, double alpha) {
+  std::vector<Verdict*> tested;
+  for (Verdict* v : verdicts) {
+    if (v == nullptr) continue;
+    v->alpha = alpha;
+    if (v->tested) tested.push_back(v);
+  }
+  const std::size_t m = tested.size();
+  std::stable_sort(tested.begin(), tested.end(),
+                   [](const Verdict* a, const Verdict* b) { return a->p_value < b->p_value; });
+  // Holm's step-down adjusted p-values: max over j <= i of min(1, (m - j + 1) p_(j)).
+  double running_max = 0.0;
+  for (std::size_t i = 0; i < m; ++i) {
+    Verdict& v = *tested[i];
+    running_max = std::max(running_max, std::min(1.0, v.p_value * static_cast<double>(m - i)));
+    v.p_adjusted = running_max;
+    const bool reject = v.p_adjusted <= alpha;
+    v.result = reject ? "biased" : "consistent";
+    v.reason = reject ? fmt::format("the mean differs from the reference by {:.3g} standard "
+                                    "errors (Holm-adjusted p = {:.3g} <= alpha = {})",
+                                    v.statistic, v.p_adjusted, alpha)
+                      : fmt::format("no evidence of bias: t = {:.3g}, Holm-adjusted p = {:.3g} > "
+                                    "alpha = {}",
+                                    v.statistic, v.p_adjusted, alpha);
+    // The bias a two-sided test at the Bonferroni share alpha / m detects with 80% power
+    // (normal-theory approximation with Student quantiles).
+    const double share = alpha / static_cast<double>(m);
+    const double multiplier =
+        t_quantile(1.0 - share / 2.0, v.dof) + t_quantile(kPower, v.dof);
+    v.min_detectable_bias = multiplier * v.test_stderr;
+    v.min_detectable_rel_bias = v.reference_value != 0.0
+                                    ? v.min_detectable_bias / std::fabs(v.reference_value)
+                                    : kNaN;
+  }
+}
+
+}  // namespace pcbench

@@ -1,0 +1,63 @@
+// Figures computed from a run's replicates: aggregates (bias, standard error, RMSE, relative MSE,
+// efficiency) and the test of E[estimate] = reference, with one false-alarm budget per suite.
+//
+// Every standard error and test uses the spread *across replicates* (INTERFACE.md): replicates
+// are independent even where the samples within one share a pool.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/runner.h"
+#include "integrands/integrand.h"
+
+namespace pcbench {
+
+inline constexpr double kDefaultAlpha = 0.01;  // family-wise, per suite
+inline constexpr double kPower = 0.8;          // for the minimum detectable bias
+
+// NaN marks a figure that is undefined (e.g. the bias without a reference).
+struct Aggregates {
+  double mean = 0.0;
+  double stderr_of_mean = 0.0;  // across replicates
+  double bias = 0.0;
+  double rmse = 0.0;     // of one replicate's estimate against the reference
+  double rel_mse = 0.0;  // mse / reference²
+  double seconds_per_sample = 0.0;  // thread CPU seconds per camera sample
+  double efficiency = 0.0;          // 1 / (per-sample variance × seconds per sample)
+};
+
+Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Reference& reference,
+                     std::uint64_t samples_per_replicate);
+
+struct Verdict {
+  std::string test;  // "student_t", "welch", "none"
+  double statistic = 0.0;
+  double dof = 0.0;
+  double p_value = 1.0;  // raw, two-sided
+  double p_adjusted = 1.0;
+  double alpha = kDefaultAlpha;  // the family-wise threshold p_adjusted is compared with
+  std::string result;            // consistent | biased | inconclusive
+  std::string reason;
+  std::string expect;
+  double min_detectable_bias = 0.0;      // at 80% power with the Bonferroni share alpha / m
+  double min_detectable_rel_bias = 0.0;  // NaN where the reference is 0 or absent
+  bool tested = false;                   // counts in the family
+  double test_stderr = 0.0;              // the test's denominator
+  double reference_value = 0.0;
+};
+
+// The raw test of one run against its reference (no multiplicity correction yet).
+Verdict test_against_reference(const std::vector<ReplicateResult>& replicates,
+                               const Reference& reference, std::string expect);
+
+// Holm–Bonferroni over the tested verdicts: fills p_adjusted, alpha, result, reason and the
+// minimum detectable bias (which needs the family size m). Verdicts may be null (failed runs).
+void decide_family(std::vector<Verdict*>& verdicts, double alpha);
+
+// Two-sided p-value of Student's t with `dof` degrees of freedom.
+double student_t_p_value(double t, double dof);
+
+}  // namespace pcbench

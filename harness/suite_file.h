@@ -1,0 +1,28 @@
+// Suite files (INTERFACE.md, "Suite file"):
+//   {"name", "description", "defaults": {"samples", "replicates", "seed"},
+//    "runs": [{"estimator", "integrand", "params": {..}, "samples", "replicates", "expect"}],
+//    "grid": [{"estimator": [..], "integrand": [..], "params": {"M": [..]}, ...}]}
+// Errors name the file, the JSON pointer of the offending value and the valid keys.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/plan.h"
+
+namespace pcbench {
+
+struct SuiteRequest {
+  std::string name;
+  std::vector<GridRequest> grids;  // rows of "runs" first, then "grid" entries, in file order
+  std::optional<std::uint64_t> samples;
+  std::optional<std::uint32_t> replicates;
+  std::optional<std::uint64_t> seed;
+};
+
+SuiteRequest parse_suite(const std::string& text, const std::string& file_name);
+SuiteRequest load_suite(const std::string& path);
+
+}  // namespace pcbench

@@ -1,0 +1,96 @@
+#include "harness/summary.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <ostream>
+#include <string>
+
+namespace pcbench {
+namespace {
+
+constexpr std::size_t kColumns = 8;
+using Row = std::array<std::string, kColumns>;
+
+// Parameters whose value differs from their declared default, as "k=v k=v".
+std::string changed_params(const std::vector<ParamSpec>& specs, const ResolvedParams& params) {
+  std::string out;
+  for (const ParamSpec& spec : specs) {
+    if (!params.has(spec.name)) continue;
+    const std::string value = to_text(params.values().at(spec.name));
+    if (!spec.default_value.empty() &&
+        value == to_text(parse_param(spec, spec.default_value, "default"))) {
+      continue;
+    }
+    if (!out.empty()) out += ' ';
+    out += spec.name + "=" + value;
+  }
+  constexpr std::size_t kMaxWidth = 40;
+  if (out.size() > kMaxWidth) out = out.substr(0, kMaxWidth - 3) + "...";
+  return out.empty() ? "-" : out;
+}
+
+std::string number(double value) {
+  return std::isfinite(value) ? fmt::format("{:.6g}", value) : std::string("-");
+}
+
+Row row_of(const RunRecord& record) {
+  const RunPlan& plan = *record.plan;
+  const RunResult& result = record.result;
+  std::string params = changed_params(plan.estimator->params, plan.estimator_params);
+  const std::string integrand_params = changed_params(plan.integrand->params, plan.integrand_params);
+  if (params == "-") {
+    params = integrand_params;
+  } else if (integrand_params != "-") {
+    params += " " + integrand_params;
+  }
+  const bool has_stats = result.status == RunStatus::kOk || result.status == RunStatus::kInvalid;
+  const Aggregates& a = record.aggregates;
+  const std::string estimate =
+      has_stats ? fmt::format("{} ± {}", number(a.mean), number(a.stderr_of_mean)) : "-";
+  const std::string reference =
+      result.reference.kind == ReferenceKind::kNone ? "-" : number(result.reference.value);
+  const std::string bias_in_se =
+      has_stats && std::isfinite(a.bias) && a.stderr_of_mean > 0.0
+          ? fmt::format("{:+.2f}", a.bias / a.stderr_of_mean)
+          : "-";
+  std::string verdict = to_string(result.status);
+  if (record.verdict) {
+    verdict = record.verdict->result;
+    if (record.verdict->result != record.verdict->expect) {
+      verdict += fmt::format(" (expected {})", record.verdict->expect);
+    }
+  }
+  return {plan.estimator->name, plan.integrand->name, params, estimate, reference, bias_in_se,
+          fmt::format("{:.2f}", result.wall_seconds), verdict};
+}
+
+}  // namespace
+
+void print_summary(const std::vector<RunRecord>& records, std::ostream& out) {
+  std::vector<Row> rows = {
+      {"estimator", "integrand", "params", "mean ± stderr", "reference", "bias/se", "seconds",
+       "verdict"}};
+  for (const RunRecord& record : records) rows.push_back(row_of(record));
+  // Widths in code points: "±" is two bytes in UTF-8 but one column on screen.
+  const auto columns = [](const std::string& text) {
+    return static_cast<std::size_t>(std::count_if(
+        text.begin(), text.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+  };
+  std::array<std::size_t, kColumns> width{};
+  for (const Row& row : rows) {
+    for (std::size_t c = 0; c < kColumns; ++c) width[c] = std::max(width[c], columns(row[c]));
+  }
+  for (const Row& row : rows) {
+    std::string line;
+    for (std::size_t c = 0; c < kColumns; ++c) {
+      line += row[c];
+      if (c + 1 < kColumns) line += std::string(width[c] - columns(row[c]) + 2, ' ');
+    }
+    out << line << "\n";
+  }
+}
+
+}  // namespace pcbench

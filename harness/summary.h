@@ -1,0 +1,13 @@
+// The table printed after every run: one row per run.
+#pragma once
+
+#include <iosfwd>
+#include <vector>
+
+#include "results/report.h"
+
+namespace pcbench {
+
+void print_summary(const std::vector<RunRecord>& records, std::ostream& out);
+
+}  // namespace pcbench

@@ -1,0 +1,61 @@
+#include "harness/tally.h"
+
+#include <algorithm>
+#include <functional>
+
+namespace pcbench {
+
+std::size_t LargestValues::sorted(std::span<double, kCapacity> out) const {
+  std::copy_n(values_.begin(), size_, out.begin());
+  std::sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(size_), std::greater<>());
+  return size_;
+}
+
+void LargestValues::find_smallest() {
+  smallest_ = static_cast<std::size_t>(
+      std::min_element(values_.begin(), values_.begin() + static_cast<std::ptrdiff_t>(size_)) -
+      values_.begin());
+}
+
+void Tally::merge(const Tally& later) {
+  if (later.n_ > 0) {
+    if (n_ == 0) {
+      mean_ = later.mean_;
+      m2_ = later.m2_;
+    } else {
+      const double na = static_cast<double>(n_);
+      const double nb = static_cast<double>(later.n_);
+      const double n = na + nb;
+      const double delta = later.mean_ - mean_;
+      mean_ += delta * (nb / n);
+      m2_ += later.m2_ + delta * delta * (na * nb / n);
+    }
+    n_ += later.n_;
+    sum_.add(later.sum_);
+    largest_.merge(later.largest_);
+  }
+  if (later.nonfinite_ > 0) {
+    if (!first_nonfinite_) first_nonfinite_ = later.first_nonfinite_;
+    nonfinite_ += later.nonfinite_;
+    nonfinite_sum_ += later.nonfinite_sum_;
+  }
+}
+
+double Tally::mean() const {
+  const std::uint64_t total = count();
+  if (total == 0) return std::numeric_limits<double>::quiet_NaN();
+  return (sum_.value() + nonfinite_sum_) / static_cast<double>(total);
+}
+
+double Tally::variance_of_finite() const {
+  if (n_ < 2) return std::numeric_limits<double>::quiet_NaN();
+  return m2_ / static_cast<double>(n_ - 1);
+}
+
+void Tally::add_nonfinite(double x, std::uint64_t sample_index) {
+  if (!first_nonfinite_) first_nonfinite_ = sample_index;
+  ++nonfinite_;
+  nonfinite_sum_ += x;
+}
+
+}  // namespace pcbench

@@ -1,0 +1,87 @@
+#include "integrands/expression.h"
+
+#include <fmt/format.h>
+#include <muParser.h>
+
+#include <algorithm>
+
+#include "harness/errors.h"
+
+namespace pcbench {
+
+std::vector<ParamSpec> ExpressionModel::params() {
+  return {
+      {.name = "f", .type = ParamType::kText,
+       .description = "muparser expression in x0.. (light side) and y0.. (camera side)",
+       .required = true},
+      {.name = "light_dims", .type = ParamType::kInt, .default_value = "1",
+       .description = "dimensions of x (the light side)", .min = 1, .max = 32},
+      {.name = "camera_dims", .type = ParamType::kInt, .default_value = "1",
+       .description = "dimensions of y (the camera side)", .min = 1, .max = 32},
+      {.name = "exact", .type = ParamType::kReal,
+       .description = "exact value of the integral, if known", .optional = true},
+  };
+}
+
+ExpressionModel::ExpressionModel(const ResolvedParams& params)
+    : expression_(params.text("f")),
+      light_dims_(static_cast<int>(params.integer("light_dims"))),
+      camera_dims_(static_cast<int>(params.integer("camera_dims"))),
+      exact_(params.has("exact") ? params.real("exact") : 0.0),
+      has_exact_(params.has("exact")) {
+  // muparser parses lazily: evaluate once now so that a syntax error or an unknown variable is
+  // reported as bad input before any run starts, not as a failure inside one.
+  try {
+    bind();
+    std::fill_n(variables_.get(), light_dims_ + camera_dims_, 0.5);
+    parser_->Eval();
+  } catch (const mu::Parser::exception_type& e) {
+    const int pos = std::max(0, e.GetPos());
+    std::vector<std::string> names;
+    for (int i = 0; i < light_dims_; ++i) names.push_back(fmt::format("x{}", i));
+    for (int i = 0; i < camera_dims_; ++i) names.push_back(fmt::format("y{}", i));
+    throw InputError(fmt::format(
+        "integrand 'expr', parameter 'f', position {}: {}\n  {}\n  {:>{}}\n"
+        "variables: {} (light_dims={}, camera_dims={})",
+        pos, e.GetMsg(), expression_, "^", pos + 1, join_names(names), light_dims_,
+        camera_dims_));
+  }
+}
+
+ExpressionModel::ExpressionModel(const ExpressionModel& other)
+    : expression_(other.expression_),
+      light_dims_(other.light_dims_),
+      camera_dims_(other.camera_dims_),
+      exact_(other.exact_),
+      has_exact_(other.has_exact_) {
+  bind();
+}
+
+ExpressionModel::~ExpressionModel() = default;
+
+void ExpressionModel::bind() {
+  const int count = light_dims_ + camera_dims_;
+  variables_ = std::make_unique<double[]>(static_cast<std::size_t>(count));
+  parser_ = std::make_unique<mu::Parser>();
+  for (int i = 0; i < light_dims_; ++i) {
+    parser_->DefineVar(fmt::format("x{}", i), &variables_[static_cast<std::size_t>(i)]);
+  }
+  for (int i = 0; i < camera_dims_; ++i) {
+    parser_->DefineVar(fmt::format("y{}", i),
+                       &variables_[static_cast<std::size_t>(light_dims_ + i)]);
+  }
+  parser_->SetExpr(expression_);
+}
+
+Reference ExpressionModel::reference() const {
+  if (!has_exact_) return {};
+  return {.value = exact_, .kind = ReferenceKind::kExact};
+}
+
+double ExpressionModel::f(const double* x, const double* y) {
+  std::copy_n(x, light_dims_, variables_.get());
+  std::copy_n(y, camera_dims_, variables_.get() + light_dims_);
+  return parser_->Eval();
+}
+
+}  // namespace pcbench

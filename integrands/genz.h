@@ -1,0 +1,65 @@
+// Genz's test families (A. Genz, "Testing multidimensional integration routines", 1984) with the
+// dimensions split between the light side x in [0,1]^a and the camera side y in [0,1]^b.
+// z = (x, y) is the concatenated point, d = a + b.
+#pragma once
+
+#include "harness/params.h"
+#include "integrands/integrand.h"
+
+#include <cmath>
+#include <vector>
+
+namespace pcbench {
+
+// genz-gaussian: f(z) = exp(-Σ_i s² (z_i - c)²).
+// I = Π_i (√π / (2 s)) (erf(s (1 - c)) + erf(s c)), a product of one-dimensional closed forms.
+class GenzGaussian {
+ public:
+  static std::vector<ParamSpec> params();
+  explicit GenzGaussian(const ResolvedParams& params);
+
+  int light_dims() const { return light_dims_; }
+  int camera_dims() const { return camera_dims_; }
+  Reference reference() const;
+
+  double f(const double* x, const double* y) const {
+    double exponent = 0.0;
+    for (int i = 0; i < light_dims_; ++i) exponent += (x[i] - center_) * (x[i] - center_);
+    for (int i = 0; i < camera_dims_; ++i) exponent += (y[i] - center_) * (y[i] - center_);
+    return std::exp(-sharpness_ * sharpness_ * exponent);
+  }
+
+ private:
+  int light_dims_;
+  int camera_dims_;
+  double sharpness_;
+  double center_;
+};
+
+// genz-oscillatory: f(z) = cos(2π c + s Σ_i z_i).
+// I = Re[exp(i 2π c) ((exp(i s) - 1) / (i s))^d], from ∫_0^1 exp(i s t) dt = (exp(i s) - 1)/(i s).
+class GenzOscillatory {
+ public:
+  static std::vector<ParamSpec> params();
+  explicit GenzOscillatory(const ResolvedParams& params);
+
+  int light_dims() const { return light_dims_; }
+  int camera_dims() const { return camera_dims_; }
+  Reference reference() const;
+
+  double f(const double* x, const double* y) const {
+    double sum = 0.0;
+    for (int i = 0; i < light_dims_; ++i) sum += x[i];
+    for (int i = 0; i < camera_dims_; ++i) sum += y[i];
+    return std::cos(kTwoPi * center_ + sharpness_ * sum);
+  }
+
+ private:
+  static constexpr double kTwoPi = 6.283185307179586476925286766559;
+  int light_dims_;
+  int camera_dims_;
+  double sharpness_;
+  double center_;
+};
+
+}  // namespace pcbench

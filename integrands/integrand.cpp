@@ -1,0 +1,26 @@
+#include "integrands/integrand.h"
+
+#include <cmath>
+
+namespace pcbench {
+
+const char* to_string(ReferenceKind kind) {
+  switch (kind) {
+    case ReferenceKind::kExact:
+      return "exact";
+    case ReferenceKind::kNumerical:
+      return "numerical";
+    case ReferenceKind::kRendered:
+      return "rendered";
+    case ReferenceKind::kNone:
+      return "none";
+  }
+  return "none";
+}
+
+void PathWorkspace::importance(std::span<const PathPair> pairs, std::span<double> values) {
+  connect(pairs, values);
+  for (double& v : values) v = std::fabs(v);
+}
+
+}  // namespace pcbench

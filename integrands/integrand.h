@@ -1,0 +1,78 @@
+// The integrand interface: the seed's two-path integral I = ∫_A ∫_B f(x, y) dy dx, with x a light
+// (sub)path and y a camera (sub)path.
+//
+// An integrand samples paths, evaluates the connection value f(x, y) and the resampling
+// importance w(x, y), and reports its reference value. Calls are per batch: an estimator asks for
+// all the paths of a batch of camera samples at once and for all the connections it needs in
+// one call, so that no virtual call sits in a per-sample loop.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "harness/rng.h"
+
+namespace pcbench {
+
+enum class PathSide { kLight, kCamera };
+
+enum class ReferenceKind { kExact, kNumerical, kRendered, kNone };
+
+const char* to_string(ReferenceKind kind);
+
+struct Reference {
+  double value = std::numeric_limits<double>::quiet_NaN();
+  ReferenceKind kind = ReferenceKind::kNone;
+  double uncertainty = 0.0;  // standard error of `value` (0 for exact)
+  double dof = std::numeric_limits<double>::infinity();  // degrees of freedom of `uncertainty`
+};
+
+// A connection between sampled path `light` and sampled path `camera` (indices into the
+// workspace's paths of each side, in sampling order).
+struct PathPair {
+  std::uint32_t light = 0;
+  std::uint32_t camera = 0;
+};
+
+// Per-thread storage of the paths sampled for one batch. Holds no state between batches beyond
+// reusable memory, so results do not depend on which thread's workspace serves a batch.
+class PathWorkspace {
+ public:
+  virtual ~PathWorkspace() = default;
+
+  // Forgets all sampled paths (keeps the memory).
+  virtual void clear() = 0;
+
+  // For each sample s in [first_sample, first_sample + sample_count) and each j < paths_per_sample,
+  // samples one path of `side` from the stream `stream` with .sample = s and .path = j, and
+  // appends it: the new path's index is (previous count) + (s - first_sample) * paths_per_sample
+  // + j.
+  virtual void sample_paths(PathSide side, const StreamId& stream, std::uint32_t first_sample,
+                            std::uint32_t sample_count, std::uint32_t paths_per_sample) = 0;
+
+  // Density of each sampled path of `side` with respect to the integration measure, in sampling
+  // order: p(x) or p(y) of the seed's Eq. (2).
+  virtual std::span<const double> pdfs(PathSide side) const = 0;
+
+  // f(x_light, y_camera) for each pair.
+  virtual void connect(std::span<const PathPair> pairs, std::span<double> values) = 0;
+
+  // Resampling importance w(x, y) >= 0 for each pair; it must be > 0 wherever f != 0.
+  // Default: |f|.
+  virtual void importance(std::span<const PathPair> pairs, std::span<double> values);
+};
+
+class Integrand {
+ public:
+  virtual ~Integrand() = default;
+
+  // A fresh workspace for one thread.
+  virtual std::unique_ptr<PathWorkspace> make_workspace() const = 0;
+
+  virtual Reference reference() const = 0;
+};
+
+}  // namespace pcbench

@@ -1,0 +1,115 @@
+// Analytic integrands over points: x in [0,1]^a (the light side), y in [0,1]^b (the camera side).
+//
+// An analytic integrand is a small "model" class; PointIntegrand<Model> turns it into an
+// Integrand. The model's f is called in a non-virtual loop over all pairs of a batch.
+//
+// A model provides
+//   int light_dims() const; int camera_dims() const;
+//   double f(const double* x, const double* y);          // may be non-const (scratch state)
+//   Reference reference() const;
+// and optionally, for non-uniform sampling densities,
+//   double sample_light(RandomStream& rng, double* x) const;   // fills x, returns p(x)
+//   double sample_camera(RandomStream& rng, double* y) const;  // fills y, returns p(y)
+// Without them a side is sampled uniformly (p = 1). Every workspace gets its own copy of the
+// model, so a model with scratch state (a parser with bound variables) is thread-safe as long as
+// its copy constructor gives the copy its own state.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "integrands/integrand.h"
+
+namespace pcbench {
+
+template <typename Model>
+class PointWorkspace final : public PathWorkspace {
+ public:
+  explicit PointWorkspace(const Model& model)
+      : model_(model),
+        dims_{static_cast<std::size_t>(model.light_dims()),
+              static_cast<std::size_t>(model.camera_dims())} {}
+
+  void clear() override {
+    for (Side& side : sides_) {
+      side.coords.clear();
+      side.pdfs.clear();
+    }
+  }
+
+  void sample_paths(PathSide which, const StreamId& stream, std::uint32_t first_sample,
+                    std::uint32_t sample_count, std::uint32_t paths_per_sample) override {
+    Side& side = sides_[index(which)];
+    const std::size_t dims = dims_[index(which)];
+    const std::size_t added = std::size_t{sample_count} * paths_per_sample;
+    const std::size_t old_paths = side.pdfs.size();
+    side.coords.resize((old_paths + added) * dims);
+    side.pdfs.resize(old_paths + added);
+    double* coords = side.coords.data() + old_paths * dims;
+    double* pdfs = side.pdfs.data() + old_paths;
+    StreamId id = stream;
+    for (std::uint32_t s = 0; s < sample_count; ++s) {
+      id.sample = first_sample + s;
+      for (std::uint32_t j = 0; j < paths_per_sample; ++j, coords += dims, ++pdfs) {
+        id.path = j;
+        RandomStream rng(id);
+        *pdfs = sample_one(which, rng, coords, dims);
+      }
+    }
+  }
+
+  std::span<const double> pdfs(PathSide which) const override { return sides_[index(which)].pdfs; }
+
+  void connect(std::span<const PathPair> pairs, std::span<double> values) override {
+    const double* light = sides_[0].coords.data();
+    const double* camera = sides_[1].coords.data();
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      values[i] = model_.f(light + pairs[i].light * dims_[0], camera + pairs[i].camera * dims_[1]);
+    }
+  }
+
+ private:
+  struct Side {
+    std::vector<double> coords;  // path i occupies [i * dims, (i + 1) * dims)
+    std::vector<double> pdfs;
+  };
+
+  static std::size_t index(PathSide side) { return side == PathSide::kLight ? 0 : 1; }
+
+  double sample_one(PathSide which, RandomStream& rng, double* out, std::size_t dims) const {
+    if (which == PathSide::kLight) {
+      if constexpr (requires { model_.sample_light(rng, out); }) {
+        return model_.sample_light(rng, out);
+      }
+    } else {
+      if constexpr (requires { model_.sample_camera(rng, out); }) {
+        return model_.sample_camera(rng, out);
+      }
+    }
+    for (std::size_t d = 0; d < dims; ++d) out[d] = rng.uniform();
+    return 1.0;
+  }
+
+  Model model_;
+  std::size_t dims_[2];
+  Side sides_[2];
+};
+
+template <typename Model>
+class PointIntegrand final : public Integrand {
+ public:
+  explicit PointIntegrand(Model model) : model_(std::move(model)) {}
+
+  std::unique_ptr<PathWorkspace> make_workspace() const override {
+    return std::make_unique<PointWorkspace<Model>>(model_);
+  }
+  Reference reference() const override { return model_.reference(); }
+
+  const Model& model() const { return model_; }
+
+ private:
+  Model model_;
+};
+
+}  // namespace pcbench

@@ -1,0 +1,30 @@
+// The `context` block of a report: where, when and with what a report was made.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pcbench {
+
+struct Context {
+  std::string date;  // ISO 8601, UTC
+  std::string host;
+  std::string cpu;
+  unsigned cores = 0;
+  std::string compiler;
+  std::string flags;
+  std::string build_type;
+  std::string git_commit;  // "unknown" outside a git checkout
+  std::string git_dirty;   // "true", "false" or "unknown"
+  std::vector<std::string> argv;
+  std::uint64_t seed = 0;
+  unsigned threads = 0;
+  std::string version;
+};
+
+Context gather_context(std::vector<std::string> argv, std::uint64_t seed, unsigned threads);
+
+const char* pcbench_version();
+
+}  // namespace pcbench

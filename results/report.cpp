@@ -1,0 +1,180 @@
+#include "results/report.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+namespace pcbench {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// Writes numbers of one run, recording the path of every non-finite one.
+class NumberWriter {
+ public:
+  Json number(double value, const std::string& path) {
+    if (std::isfinite(value)) return value;
+    nonfinite_.push_back(path);
+    return nullptr;
+  }
+  // A figure that is undefined by design (no reference, say): null, but not a non-finite result.
+  static Json optional_number(double value) {
+    return std::isfinite(value) ? Json(value) : Json(nullptr);
+  }
+  const std::vector<std::string>& nonfinite() const { return nonfinite_; }
+
+ private:
+  std::vector<std::string> nonfinite_;
+};
+
+Json param_value(const ParamValue& value) {
+  if (const auto* i = std::get_if<std::int64_t>(&value)) return *i;
+  if (const auto* r = std::get_if<double>(&value)) return *r;
+  return std::get<std::string>(value);
+}
+
+Json context_json(const Context& c) {
+  Json dirty = nullptr;
+  if (c.git_dirty == "true") dirty = true;
+  if (c.git_dirty == "false") dirty = false;
+  return Json{{"date", c.date},         {"host", c.host},
+              {"cpu", c.cpu},           {"cores", c.cores},
+              {"compiler", c.compiler}, {"flags", c.flags},
+              {"build_type", c.build_type}, {"git_commit", c.git_commit},
+              {"git_dirty", dirty},     {"argv", c.argv},
+              {"seed", c.seed},         {"threads", c.threads},
+              {"pcbench_version", c.version}};
+}
+
+Json reference_json(const Reference& reference) {
+  const bool none = reference.kind == ReferenceKind::kNone;
+  return Json{{"value", none ? Json(nullptr) : Json(reference.value)},
+              {"kind", to_string(reference.kind)},
+              {"uncertainty", none ? Json(nullptr) : Json(reference.uncertainty)},
+              {"dof", std::isfinite(reference.dof) && !none ? Json(reference.dof) : Json(nullptr)}};
+}
+
+Json verdict_json(const Verdict& v) {
+  const auto opt = NumberWriter::optional_number;
+  return Json{{"test", v.test},
+              {"statistic", opt(v.statistic)},
+              {"dof", opt(v.dof)},
+              {"p_value", opt(v.p_value)},
+              {"p_adjusted", opt(v.p_adjusted)},
+              {"alpha", v.alpha},
+              {"result", v.result},
+              {"reason", v.reason},
+              {"expect", v.expect},
+              {"min_detectable_bias", opt(v.min_detectable_bias)},
+              {"min_detectable_rel_bias", opt(v.min_detectable_rel_bias)}};
+}
+
+Json run_json(const RunRecord& record, std::uint64_t seed) {
+  const RunPlan& plan = *record.plan;
+  const RunResult& result = record.result;
+  NumberWriter numbers;
+
+  Json params = Json::object();
+  for (const auto& [key, value] : plan.estimator_params.values()) params[key] = param_value(value);
+  for (const auto& [key, value] : plan.integrand_params.values()) params[key] = param_value(value);
+
+  Json replicates = Json::array();
+  for (std::size_t r = 0; r < result.replicates.size(); ++r) {
+    const ReplicateResult& rep = result.replicates[r];
+    const std::string at = fmt::format("replicates/{}/", r);
+    replicates.push_back(Json{{"estimate", numbers.number(rep.estimate, at + "estimate")},
+                              {"variance", numbers.number(rep.variance, at + "variance")},
+                              {"n", rep.n},
+                              {"nonfinite", rep.nonfinite},
+                              {"seconds", rep.seconds},
+                              {"cpu_seconds", rep.cpu_seconds},
+                              {"largest_abs", rep.largest}});
+  }
+
+  Json aggregates = nullptr;
+  if (result.status == RunStatus::kOk || result.status == RunStatus::kInvalid) {
+    const Aggregates& a = record.aggregates;
+    const bool has_reference = result.reference.kind != ReferenceKind::kNone;
+    const auto with_reference = [&](double value, const char* name) {
+      return has_reference ? numbers.number(value, fmt::format("aggregates/{}", name))
+                           : Json(nullptr);
+    };
+    aggregates = Json{
+        {"mean", numbers.number(a.mean, "aggregates/mean")},
+        {"stderr", numbers.number(a.stderr_of_mean, "aggregates/stderr")},
+        {"bias", with_reference(a.bias, "bias")},
+        {"rmse", with_reference(a.rmse, "rmse")},
+        {"rel_mse", has_reference && result.reference.value != 0.0
+                        ? numbers.number(a.rel_mse, "aggregates/rel_mse")
+                        : Json(nullptr)},
+        {"seconds_per_sample", numbers.number(a.seconds_per_sample, "aggregates/seconds_per_sample")},
+        {"efficiency", numbers.number(a.efficiency, "aggregates/efficiency")}};
+  }
+
+  Json first_nonfinite = nullptr;
+  if (result.first_nonfinite) {
+    first_nonfinite = Json{{"seed", seed},
+                           {"replicate", result.first_nonfinite->replicate},
+                           {"sample", result.first_nonfinite->sample}};
+  }
+
+  const Counters& c = result.counters;
+  Json run{{"id", plan.id},
+           {"estimator", plan.estimator->name},
+           {"integrand", plan.integrand->name},
+           {"params", params},
+           {"status", to_string(result.status)},
+           {"error", result.error.empty() ? Json(nullptr) : Json(result.error)},
+           {"reference", reference_json(result.reference)},
+           {"samples", plan.samples},
+           {"pool", plan.estimator_params.has("pool") ? plan.estimator_params.text("pool") : "fresh"},
+           {"wall_seconds", result.wall_seconds},
+           {"replicates", replicates},
+           {"aggregates", aggregates},
+           {"verdict", record.verdict ? verdict_json(*record.verdict) : Json(nullptr)},
+           {"first_nonfinite", first_nonfinite},
+           {"counters", Json{{"camera_paths", c.camera_paths},
+                             {"light_paths", c.light_paths},
+                             {"connections", c.connections},
+                             {"importance_evaluations", c.importance_evaluations}}},
+           {"series", Json::array()}};
+  run["nonfinite_fields"] = numbers.nonfinite();
+  return run;
+}
+
+}  // namespace
+
+std::string report_json(const Context& context, const std::string& suite_name,
+                        const std::vector<RunRecord>& runs) {
+  Json runs_json = Json::array();
+  for (const RunRecord& record : runs) runs_json.push_back(run_json(record, context.seed));
+  const Json report{{"schema_version", kSchemaVersion},
+                    {"suite", suite_name},
+                    {"context", context_json(context)},
+                    {"runs", runs_json},
+                    {"comparisons", Json::array()}};
+  return report.dump(2) + "\n";
+}
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  std::filesystem::path temporary = path;
+  temporary += fmt::format(".{}.tmp", getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ignored;
+      std::filesystem::remove(temporary, ignored);
+      throw std::runtime_error("cannot write " + temporary.string());
+    }
+  }
+  std::filesystem::rename(temporary, path);
+}
+
+}  // namespace pcbench

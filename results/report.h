@@ -1,0 +1,35 @@
+// The JSON report (schema: results/report.schema.json, schema_version 1).
+//
+// Non-finite numbers are written as null *and* named in the run's `nonfinite_fields` (JSON has
+// no NaN; nlohmann-json would write null without a word). Reports are written to a temporary
+// file in the same folder and renamed, so a reader never sees half a report.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/plan.h"
+#include "harness/runner.h"
+#include "harness/statistics.h"
+#include "results/context.h"
+
+namespace pcbench {
+
+inline constexpr int kSchemaVersion = 1;
+
+struct RunRecord {
+  const RunPlan* plan = nullptr;
+  RunResult result;
+  Aggregates aggregates;
+  std::optional<Verdict> verdict;  // absent for runs that did not finish
+};
+
+std::string report_json(const Context& context, const std::string& suite_name,
+                        const std::vector<RunRecord>& runs);
+
+// Writes `text` to `path` atomically (temporary file + rename), creating parent folders.
+void write_file_atomically(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace pcbench

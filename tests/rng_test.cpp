@@ -1,0 +1,99 @@
+#include "harness/rng.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <vector>
+
+#include "tests/test_support.h"
+
+namespace pcbench {
+namespace {
+
+// Known-answer vectors of Philox4x32-10 from Random123's kat_vectors.
+TEST(RngPhilox, MatchesRandom123KnownAnswers) {
+  EXPECT_EQ(philox4x32_10({0, 0, 0, 0}, {0, 0}),
+            (PhiloxCounter{0x6627e8d5u, 0xe169c58du, 0xbc57ac4cu, 0x9b00dbd8u}));
+  EXPECT_EQ(philox4x32_10({0xffffffffu, 0xffffffffu, 0xffffffffu, 0xffffffffu},
+                          {0xffffffffu, 0xffffffffu}),
+            (PhiloxCounter{0x408f276du, 0x41c83b0eu, 0xa20bc7c6u, 0x6d5451fdu}));
+  EXPECT_EQ(philox4x32_10({0x243f6a88u, 0x85a308d3u, 0x13198a2eu, 0x03707344u},
+                          {0xa4093822u, 0x299f31d0u}),
+            (PhiloxCounter{0xd16cfe09u, 0x94fdccebu, 0x5001e420u, 0x24126ea1u}));
+}
+
+TEST(RngStream, SameIdGivesSameNumbers) {
+  const StreamId id{.key = 42, .replicate = 3, .purpose = StreamPurpose::kCameraPath,
+                    .sample = 17, .path = 5};
+  RandomStream a(id), b(id);
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(a.uniform(), b.uniform());
+}
+
+TEST(RngStream, EveryFieldOfTheIdChangesTheNumbers) {
+  const StreamId base{.key = 42, .replicate = 3, .purpose = StreamPurpose::kLightPool,
+                      .sample = 17, .path = 5};
+  std::vector<StreamId> ids(6, base);
+  ids[1].key = 43;
+  ids[2].replicate = 4;
+  ids[3].purpose = StreamPurpose::kResampling;
+  ids[4].sample = 18;
+  ids[5].path = 6;
+  std::set<double> firsts;
+  for (const StreamId& id : ids) firsts.insert(RandomStream(id).uniform());
+  EXPECT_EQ(firsts.size(), ids.size());
+}
+
+TEST(RngStream, UniformsLieInTheUnitInterval) {
+  RandomStream rng({.key = 9});
+  for (int i = 0; i < 100000; ++i) {
+    const double u = rng.uniform();
+    ASSERT_GE(u, 0.0);
+    ASSERT_LT(u, 1.0);
+  }
+}
+
+// Chi-square test of uniformity over 64 bins; false-alarm budget 1e-6 for this fixed seed.
+TEST(RngStream, UniformsPassChiSquare) {
+  constexpr int kBins = 64;
+  constexpr int kDraws = 640000;
+  std::vector<double> counts(kBins, 0.0);
+  RandomStream rng({.key = 2024, .purpose = StreamPurpose::kResampling});
+  for (int i = 0; i < kDraws; ++i) counts[static_cast<std::size_t>(rng.uniform() * kBins)] += 1.0;
+  EXPECT_GT(chi_square_uniform_p_value(counts), 1e-6);
+}
+
+// Neighbouring streams (consecutive samples, as the runner uses them) must not be correlated:
+// the Pearson correlation of their first uniforms over many pairs is ~N(0, 1/n).
+TEST(RngStream, NeighbouringStreamsAreUncorrelated) {
+  constexpr int kPairs = 100000;
+  double sum_xy = 0, sum_x = 0, sum_y = 0, sum_xx = 0, sum_yy = 0;
+  for (std::uint32_t s = 0; s < kPairs; ++s) {
+    const double x = RandomStream({.key = 5, .sample = s}).uniform();
+    const double y = RandomStream({.key = 5, .sample = s + 1}).uniform();
+    sum_xy += x * y;
+    sum_x += x;
+    sum_y += y;
+    sum_xx += x * x;
+    sum_yy += y * y;
+  }
+  const double n = kPairs;
+  const double r = (sum_xy - sum_x * sum_y / n) /
+                   std::sqrt((sum_xx - sum_x * sum_x / n) * (sum_yy - sum_y * sum_y / n));
+  // |z| > 5 has probability 6e-7 under independence.
+  EXPECT_LT(std::fabs(r * std::sqrt(n)), 5.0);
+}
+
+TEST(RngStream, UniformIndexCoversItsRange) {
+  RandomStream rng({.key = 11});
+  std::vector<int> seen(7, 0);
+  for (int i = 0; i < 7000; ++i) {
+    const std::uint32_t k = rng.uniform_index(7);
+    ASSERT_LT(k, 7u);
+    ++seen[k];
+  }
+  for (int count : seen) EXPECT_GT(count, 800);
+}
+
+}  // namespace
+}  // namespace pcbench

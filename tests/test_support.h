@@ -1,0 +1,31 @@
+// Helpers shared by the tests.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace pcbench {
+
+// p-value of Pearson's chi-square test that `counts` come from equal-probability bins.
+double chi_square_uniform_p_value(const std::vector<double>& counts);
+
+// A fresh, empty temporary folder, removed when the object goes out of scope.
+class TemporaryFolder {
+ public:
+  TemporaryFolder();
+  ~TemporaryFolder();
+  TemporaryFolder(const TemporaryFolder&) = delete;
+  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Every regular file under `folder`, relative paths, sorted.
+std::vector<std::string> files_under(const std::filesystem::path& folder);
+
+std::string read_text(const std::filesystem::path& file);
+
+}  // namespace pcbench
