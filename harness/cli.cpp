@@ -5,6 +5,8 @@
 #include <oneapi/tbb/info.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <filesystem>
 #include <ostream>
 
 #include "harness/errors.h"
@@ -111,6 +113,11 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
   if (run_app.count("--replicates")) budget.forced_replicates = args.replicates;
 
   const std::vector<RunPlan> plans = plan_runs(grids, budget);
+  if (!args.out_dir.empty() && std::filesystem::exists(args.out_dir) &&
+      !std::filesystem::is_directory(args.out_dir)) {
+    throw InputError(fmt::format("command line: --out '{}' exists and is not a folder",
+                                 args.out_dir));
+  }
 
   session.threads = args.threads > 0 ? args.threads
                                      : static_cast<unsigned>(tbb::info::default_concurrency());
@@ -153,6 +160,20 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   run->add_option("--out,-o", run_args.out_dir,
                   "output folder (default results/runs/<date-time>/, linked as results/latest)");
   run->add_flag("--quiet,-q", run_args.quiet, "no progress and no summary table");
+
+  // CLI11 would say "A subcommand is required" without naming the subcommands.
+  std::vector<std::string> commands;
+  for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+    commands.push_back(sub->get_name());
+  }
+  if (args.empty() || (args[0].rfind('-', 0) != 0 &&
+                       std::find(commands.begin(), commands.end(), args[0]) == commands.end())) {
+    err << fmt::format("pcbench: error: {}; valid subcommands: {} (see pcbench --help)\n",
+                       args.empty() ? std::string("no subcommand given")
+                                    : fmt::format("unknown subcommand '{}'", args[0]),
+                       join_names(commands));
+    return kExitBadInput;
+  }
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {

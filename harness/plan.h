@@ -26,13 +26,13 @@ inline constexpr std::uint32_t kMaxReplicates = 0xFFFFFFu;
 
 // A grid: the product of its lists. A plain suite row is a grid whose lists have one element.
 struct GridRequest {
-  std::vector<std::string> estimators;
-  std::vector<std::string> integrands;
-  std::map<std::string, std::vector<std::string>> params;  // key -> values, as text
-  std::optional<std::uint64_t> samples;
-  std::optional<std::uint32_t> replicates;
-  std::optional<std::string> expect;
-  std::string where;  // "suites/x.json: /grid/0" or "command line"
+  std::vector<std::string> estimators = {};
+  std::vector<std::string> integrands = {};
+  std::map<std::string, std::vector<std::string>> params = {};  // key -> values, as text
+  std::optional<std::uint64_t> samples = {};
+  std::optional<std::uint32_t> replicates = {};
+  std::optional<std::string> expect = {};
+  std::string where = {};  // "suites/x.json: /grid/0" or "command line"
 };
 
 // Budget settings that apply unless a row sets its own; `forced` values (from the command line)

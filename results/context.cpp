@@ -65,7 +65,10 @@ Context gather_context(std::vector<std::string> argv, std::uint64_t seed, unsign
   // stale between rebuilds).
   const std::string git = "git -C '" PCBENCH_SOURCE_DIR "' ";
   context.git_commit = command_output(git + "rev-parse HEAD 2>/dev/null");
-  if (context.git_commit.empty()) {
+  const bool looks_like_commit =
+      context.git_commit.size() == 40 &&
+      context.git_commit.find_first_not_of("0123456789abcdef") == std::string::npos;
+  if (!looks_like_commit) {
     context.git_commit = "unknown";
     context.git_dirty = "unknown";
   } else {

@@ -1,1 +1,210 @@
+// The command line end to end, in process: exit statuses, nothing written on bad input, and
+// report numbers independent of the thread count.
+#include "harness/cli.h"
+
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <fstream>
+#include <sstream>
+
+#include "tests/test_support.h"
+
+namespace pcbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliResult {
+  int status;
+  std::string out;
+  std::string err;
+};
+
+CliResult cli(const std::vector<std::string>& args) {
+  std::ostringstream out, err;
+  const int status = run_cli(args, out, err);
+  return {status, out.str(), err.str()};
+}
+
+// Runs in a fresh working folder so that default output paths land there.
+class CliInFolder : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    previous_ = fs::current_path();
+    fs::current_path(folder_.path());
+  }
+  void TearDown() override { fs::current_path(previous_); }
+  const fs::path& folder() const { return folder_.path(); }
+
+ private:
+  TemporaryFolder folder_;
+  fs::path previous_;
+};
+
+TEST(Cli, HelpAndVersionExitZero) {
+  EXPECT_EQ(cli({"--help"}).status, 0);
+  EXPECT_EQ(cli({"run", "--help"}).status, 0);
+  const CliResult version = cli({"--version"});
+  EXPECT_EQ(version.status, 0);
+  EXPECT_NE(version.out.find("pcbench"), std::string::npos);
+}
+
+TEST(Cli, ListNamesEveryKind) {
+  const CliResult text = cli({"list"});
+  EXPECT_EQ(text.status, 0);
+  EXPECT_NE(text.out.find("plain"), std::string::npos);
+  EXPECT_NE(text.out.find("genz-gaussian"), std::string::npos);
+  const CliResult json = cli({"list", "--json"});
+  ASSERT_EQ(json.status, 0);
+  const auto parsed = nlohmann::json::parse(json.out);
+  ASSERT_TRUE(parsed["estimators"].is_array());
+  EXPECT_EQ(parsed["estimators"][0]["name"], "plain");
+  EXPECT_EQ(parsed["estimators"][0]["biased"], false);
+  EXPECT_TRUE(parsed["integrands"][0]["exact"].is_boolean());
+  EXPECT_TRUE(parsed["scenes"].is_array());
+}
+
+struct BadInput {
+  std::vector<std::string> args;
+  std::string message;  // a fragment the error must contain
+};
+
+// Every kind of bad input: exit 2, a message with the location or the valid choices, and
+// nothing written to the working folder.
+TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
+  {
+    std::ofstream suite("broken.json");
+    suite << "{\"runs\": [{\"estimator\": \"plain\",\n \"integrand\": }]}";
+  }
+  {
+    std::ofstream suite("unknown_key.json");
+    suite << R"({"runs": [{"estimator": "plain", "integrand": "genz-gaussian", "sample": 5}]})";
+  }
+  const std::vector<BadInput> cases = {
+      {{"run", "-e", "nope", "-i", "genz-gaussian"}, "valid estimators: plain"},
+      {{"run", "-e", "plain", "-i", "nope"}, "valid integrands: genz-gaussian"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "-p", "M=4"}, "read by no estimator"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "-p", "sharpness=abc"}, "not a finite"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "-p", "light_dims=0"}, "out of range"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "-p", "sharpness"}, "key=value"},
+      {{"run", "-e", "plain", "-i", "expr", "-p", "f=x0*(y0"}, "position"},
+      {{"run", "-e", "plain", "-i", "expr"}, "'f' is required"},
+      {{"run", "-e", "plain"}, "--integrand is required"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "-n", "0"}, "samples"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "-r", "1"}, "replicates"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "-t", "0"}, "threads"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "--bogus"}, "--bogus"},
+      {{"run"}, "give a suite file"},
+      {{"run", "missing.json"}, "missing.json: cannot open"},
+      {{"run", "broken.json"}, "broken.json:2:"},
+      {{"run", "unknown_key.json"}, "/runs/0/sample: unknown key 'sample'; valid keys:"},
+      {{"run", "unknown_key.json", "-e", "plain"}, "not both"},
+      {{"frobnicate"}, "frobnicate"},
+      {{}, "valid subcommands: list, run"},
+  };
+  const std::vector<std::string> before = files_under(folder());
+  for (const BadInput& c : cases) {
+    const CliResult r = cli(c.args);
+    std::string command;
+    for (const std::string& a : c.args) command += a + " ";
+    EXPECT_EQ(r.status, 2) << command;
+    EXPECT_NE((r.err + r.out).find(c.message), std::string::npos)
+        << command << "\nmessage: " << r.err << r.out;
+    EXPECT_EQ(files_under(folder()), before) << command << " wrote something";
+  }
+}
+
+TEST_F(CliInFolder, OutputThatIsAFileIsBadInput) {
+  { std::ofstream file("taken"); }
+  const CliResult r = cli({"run", "-e", "plain", "-i", "genz-gaussian", "-n", "100", "-r", "2",
+                           "--out", "taken"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("not a folder"), std::string::npos);
+}
+
+TEST_F(CliInFolder, DefaultOutputFolderAndLatestLink) {
+  const CliResult r = cli({"run", "-e", "plain", "-i", "genz-gaussian", "-n", "1000", "-r", "4"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::is_symlink(folder() / "results" / "latest"));
+  EXPECT_TRUE(fs::exists(folder() / "results" / "latest" / "report.json"));
+  EXPECT_NE(r.out.find("report: results/runs/"), std::string::npos);
+  EXPECT_NE(r.out.find("mean ± stderr"), std::string::npos);  // the summary table
+  // A second run gets its own folder, and latest follows it.
+  const CliResult again = cli({"run", "-e", "plain", "-i", "genz-gaussian", "-n", "1000", "-r", "4",
+                               "--quiet"});
+  ASSERT_EQ(again.status, 0);
+  EXPECT_EQ(again.out.find("mean ± stderr"), std::string::npos);  // --quiet: no table
+  EXPECT_EQ(files_under(folder() / "results" / "runs").size(), 2u);
+}
+
+nlohmann::json report_at(const fs::path& folder) {
+  return nlohmann::json::parse(read_text(folder / "report.json"));
+}
+
+// The numbers of a report, without timings and context: what must not depend on threads.
+nlohmann::json numbers_of(nlohmann::json report) {
+  for (auto& run : report["runs"]) {
+    run.erase("wall_seconds");
+    for (auto& rep : run["replicates"]) {
+      rep.erase("seconds");
+      rep.erase("cpu_seconds");
+    }
+    run["aggregates"].erase("seconds_per_sample");
+    run["aggregates"].erase("efficiency");
+  }
+  return report["runs"];
+}
+
+TEST_F(CliInFolder, ReportNumbersAreIdenticalForOneAndTwoThreads) {
+  const std::vector<std::string> common = {
+      "run", "-e", "plain", "-i", "genz-gaussian,genz-oscillatory", "-p", "light_dims=1,2",
+      "-n", "30001", "-r", "5", "--quiet"};
+  auto one = common, two = common;
+  one.insert(one.end(), {"--threads", "1", "--out", "one"});
+  two.insert(two.end(), {"--threads", "2", "--out", "two"});
+  ASSERT_EQ(cli(one).status, 0);
+  ASSERT_EQ(cli(two).status, 0);
+  const auto a = report_at("one"), b = report_at("two");
+  EXPECT_EQ(a["context"]["threads"], 1);
+  EXPECT_EQ(b["context"]["threads"], 2);
+  EXPECT_EQ(a["runs"].size(), 4u);  // the grid: 2 integrands × 2 values of light_dims
+  EXPECT_EQ(numbers_of(a), numbers_of(b));
+}
+
+TEST_F(CliInFolder, ExitStatusOneWhenAVerdictDiffersFromItsExpectation) {
+  std::ofstream("suite.json") << R"({"name": "expect-biased",
+    "runs": [{"estimator": "plain", "integrand": "genz-gaussian", "samples": 2000,
+              "replicates": 8, "expect": "biased"}]})";
+  const CliResult r = cli({"run", "suite.json", "--out", "out"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find("(expected biased)"), std::string::npos);
+  EXPECT_EQ(report_at("out")["suite"], "expect-biased");
+}
+
+TEST_F(CliInFolder, ExitStatusThreeWhenARunHasNonfiniteSamples) {
+  const CliResult r = cli({"run", "-e", "plain", "-i", "expr,genz-gaussian", "-p",
+                           "f=x0 < 0.01 ? 1/0 : x0", "-p", "exact=0.5", "-n", "2000", "-r", "3",
+                           "--out", "out"});
+  EXPECT_EQ(r.status, 3);
+  const auto report = report_at("out");
+  ASSERT_EQ(report["runs"].size(), 2u);
+  EXPECT_EQ(report["runs"][0]["status"], "invalid");
+  EXPECT_FALSE(report["runs"][0]["nonfinite_fields"].empty());
+  EXPECT_EQ(report["runs"][1]["status"], "ok");  // the suite went on
+}
+
+TEST_F(CliInFolder, CommandLineBudgetOverridesTheSuite) {
+  std::ofstream("suite.json") << R"({"defaults": {"samples": 500000, "seed": 7},
+    "runs": [{"estimator": "plain", "integrand": "genz-gaussian", "samples": 900000}]})";
+  ASSERT_EQ(cli({"run", "suite.json", "-n", "1000", "-r", "3", "--out", "out", "-q"}).status, 0);
+  const auto report = report_at("out");
+  EXPECT_EQ(report["runs"][0]["samples"], 1000);
+  EXPECT_EQ(report["runs"][0]["replicates"].size(), 3u);
+  EXPECT_EQ(report["context"]["seed"], 7);  // from the suite: --seed was not given
+}
+
+}  // namespace
+}  // namespace pcbench

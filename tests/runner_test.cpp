@@ -1,1 +1,187 @@
+#include "harness/runner.h"
+
 #include <gtest/gtest.h>
+#include <oneapi/tbb/global_control.h>
+
+#include <boost/math/distributions/chi_squared.hpp>
+#include <cmath>
+#include <stdexcept>
+
+#include "estimators/plain.h"
+#include "harness/plan.h"
+#include "harness/statistics.h"
+#include "harness/tally.h"
+#include "integrands/point_integrand.h"
+
+namespace pcbench {
+namespace {
+
+std::vector<RunPlan> plan(const std::string& estimator, const std::string& integrand,
+                          std::map<std::string, std::vector<std::string>> params,
+                          std::uint64_t samples, std::uint32_t replicates) {
+  GridRequest grid{.estimators = {estimator},
+                   .integrands = {integrand},
+                   .params = std::move(params),
+                   .samples = samples,
+                   .replicates = replicates,
+                   .where = "test"};
+  return plan_runs({grid}, {});
+}
+
+RunResult run_with_threads(const RunPlan& p, int threads, std::uint64_t seed = 1) {
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<std::size_t>(threads));
+  return execute_run(p, {.seed = seed});
+}
+
+void expect_same_numbers(const RunResult& a, const RunResult& b) {
+  ASSERT_EQ(a.replicates.size(), b.replicates.size());
+  for (std::size_t r = 0; r < a.replicates.size(); ++r) {
+    // Bitwise equality: the same floating-point operations in the same order.
+    EXPECT_EQ(a.replicates[r].estimate, b.replicates[r].estimate) << "replicate " << r;
+    EXPECT_EQ(a.replicates[r].variance, b.replicates[r].variance) << "replicate " << r;
+    EXPECT_EQ(a.replicates[r].n, b.replicates[r].n);
+    EXPECT_EQ(a.replicates[r].largest, b.replicates[r].largest);
+  }
+  EXPECT_EQ(a.counters.connections, b.counters.connections);
+}
+
+TEST(RunnerDeterminism, SameNumbersForAnyThreadCount) {
+  // 100003 samples: several chunks per replicate and a ragged last batch.
+  const auto plans = plan("plain", "genz-gaussian", {{"light_dims", {"2"}}}, 100003, 6);
+  const RunResult one = run_with_threads(plans[0], 1);
+  const RunResult two = run_with_threads(plans[0], 2);
+  const RunResult three = run_with_threads(plans[0], 3);
+  ASSERT_EQ(one.status, RunStatus::kOk);
+  expect_same_numbers(one, two);
+  expect_same_numbers(one, three);
+}
+
+TEST(RunnerDeterminism, NumbersDoNotDependOnSuiteOrder) {
+  GridRequest a{.estimators = {"plain"}, .integrands = {"genz-gaussian"}, .samples = 5000,
+                .replicates = 3, .where = "a"};
+  GridRequest b{.estimators = {"plain"}, .integrands = {"genz-oscillatory"}, .samples = 5000,
+                .replicates = 3, .where = "b"};
+  const auto forward = plan_runs({a, b}, {});
+  const auto backward = plan_runs({b, a}, {});
+  ASSERT_EQ(forward[0].id, backward[1].id);
+  expect_same_numbers(execute_run(forward[0], {}), execute_run(backward[1], {}));
+  expect_same_numbers(execute_run(forward[1], {}), execute_run(backward[0], {}));
+}
+
+TEST(RunnerDeterminism, SeedAndReplicateChangeTheNumbers) {
+  const auto plans = plan("plain", "genz-gaussian", {}, 2000, 2);
+  const RunResult seed1 = execute_run(plans[0], {.seed = 1});
+  const RunResult seed2 = execute_run(plans[0], {.seed = 2});
+  EXPECT_NE(seed1.replicates[0].estimate, seed2.replicates[0].estimate);
+  EXPECT_NE(seed1.replicates[0].estimate, seed1.replicates[1].estimate);
+}
+
+TEST(RunnerChunks, EverySampleIsCountedOnce) {
+  for (std::uint64_t samples : {1ull, 255ull, 256ull, 4097ull, 300001ull}) {
+    const auto plans = plan("plain", "genz-gaussian", {}, samples, 2);
+    const RunResult result = execute_run(plans[0], {});
+    ASSERT_EQ(result.status, RunStatus::kOk);
+    for (const ReplicateResult& rep : result.replicates) EXPECT_EQ(rep.n, samples);
+    EXPECT_EQ(result.counters.camera_paths, 2 * samples);
+    EXPECT_EQ(result.counters.connections, 2 * samples);
+  }
+}
+
+TEST(RunnerChunks, ChunkSizeDependsOnlyOnTheSampleCount) {
+  EXPECT_EQ(chunk_size(1), 16 * kBatchSize);
+  EXPECT_EQ(chunk_size(100000) % kBatchSize, 0u);
+  EXPECT_LE((100000000 + chunk_size(100000000) - 1) / chunk_size(100000000), 64u);
+}
+
+TEST(RunnerNonfinite, CountedLocatedAndTheRunMarkedInvalid) {
+  // f is infinite for x0 < 0.01: about 1% of the samples.
+  const auto plans =
+      plan("plain", "expr", {{"f", {"x0 < 0.01 ? 1/0 : x0"}}, {"exact", {"0.5"}}}, 1000, 3);
+  const RunResult result = execute_run(plans[0], {.seed = 9});
+  EXPECT_EQ(result.status, RunStatus::kInvalid);
+  ASSERT_TRUE(result.first_nonfinite.has_value());
+  EXPECT_EQ(result.first_nonfinite->seed, 9u);
+  const ReplicateResult& rep = result.replicates[result.first_nonfinite->replicate];
+  EXPECT_GT(rep.nonfinite, 0u);
+  EXPECT_EQ(rep.n, 1000u);  // non-finite samples are counted, not dropped
+  EXPECT_FALSE(std::isfinite(rep.estimate));
+  EXPECT_NE(result.error.find("replicate"), std::string::npos);
+}
+
+// A model that fails inside a run, as a buggy user integrand would.
+struct ThrowingModel {
+  int light_dims() const { return 1; }
+  int camera_dims() const { return 1; }
+  Reference reference() const { return {.value = 0.5, .kind = ReferenceKind::kExact}; }
+  double f(const double* x, const double*) const {
+    if (x[0] > 0.999) throw std::runtime_error("integrand exploded");
+    return x[0];
+  }
+};
+
+TEST(RunnerErrors, AnExceptionInsideARunIsRecordedInThatRun) {
+  RunPlan p = plan("plain", "genz-gaussian", {}, 10000, 2)[0];
+  p.made_integrand = std::make_shared<PointIntegrand<ThrowingModel>>(ThrowingModel{});
+  const RunResult result = execute_run(p, {});
+  EXPECT_EQ(result.status, RunStatus::kError);
+  EXPECT_EQ(result.error, "integrand exploded");
+}
+
+TEST(RunnerInterrupt, AnInterruptedRunIsMarkedNotRun) {
+  const auto plans = plan("plain", "genz-gaussian", {}, 10000, 2);
+  const std::atomic<bool> interrupted{true};
+  const RunResult result = execute_run(plans[0], {.interrupted = &interrupted});
+  EXPECT_EQ(result.status, RunStatus::kNotRun);
+}
+
+// ∫_0^1 exp(-k (t - c)²) dt in closed form.
+double gaussian_1d(double k, double c) {
+  const double s = std::sqrt(k);
+  return std::sqrt(M_PI) / (2.0 * s) * (std::erf(s * (1.0 - c)) + std::erf(s * c));
+}
+
+// plain's variance on genz-gaussian is known exactly: Var f = ∫ f² - I², and f² is the Gaussian
+// with twice the exponent. The across-replicate variance must match it: s² / (σ²/N) is
+// χ²(R-1) when the samples are independent. Correlated streams (a shared or overlapping stream)
+// keep the mean right but break this. False-alarm budget: 1e-4 two-sided, fixed seed.
+TEST(PlainVariance, MatchesTheExactVarianceOfTheGaussian) {
+  constexpr double kSharpness = 4.0, kCenter = 0.3;
+  constexpr int kDims = 3;  // light_dims 2 + camera_dims 1
+  constexpr std::uint64_t kSamples = 20000;
+  constexpr std::uint32_t kReplicates = 64;
+  const auto plans = plan("plain", "genz-gaussian",
+                          {{"light_dims", {"2"}}, {"sharpness", {"4"}}, {"center", {"0.3"}}},
+                          kSamples, kReplicates);
+  const RunResult result = execute_run(plans[0], {.seed = 3});
+  const double integral = std::pow(gaussian_1d(kSharpness * kSharpness, kCenter), kDims);
+  const double second_moment = std::pow(gaussian_1d(2 * kSharpness * kSharpness, kCenter), kDims);
+  const double sigma2 = second_moment - integral * integral;
+
+  Tally spread;
+  for (std::size_t r = 0; r < result.replicates.size(); ++r) {
+    spread.add(result.replicates[r].estimate, r);
+  }
+  const double statistic = (kReplicates - 1) * spread.variance() / (sigma2 / kSamples);
+  const boost::math::chi_squared chi2(kReplicates - 1);
+  const double p = 2 * std::min(boost::math::cdf(chi2, statistic),
+                                boost::math::cdf(boost::math::complement(chi2, statistic)));
+  EXPECT_GT(p, 1e-4) << "across-replicate variance " << spread.variance() * kSamples
+                     << " vs exact " << sigma2;
+
+  // The within-replicate variance estimates the same σ² (samples are independent here).
+  Tally within;
+  for (std::size_t r = 0; r < result.replicates.size(); ++r) {
+    within.add(result.replicates[r].variance, r);
+  }
+  const double z = (within.mean() - sigma2) / std::sqrt(within.variance() / kReplicates);
+  EXPECT_LT(std::fabs(z), 4.5);  // two-sided normal tail 7e-6
+
+  // And the mean is unbiased: Student t at the same budget.
+  const Verdict v = test_against_reference(result.replicates, result.reference, "consistent");
+  EXPECT_NEAR(result.reference.value, integral, 1e-15);
+  EXPECT_GT(v.p_value, 1e-4);
+}
+
+}  // namespace
+}  // namespace pcbench

@@ -87,7 +87,7 @@ TEST(TallyNonfinite, CountedNeverDroppedAndFirstLocated) {
   EXPECT_EQ(*a.first_nonfinite_sample(), 5u);
   EXPECT_TRUE(std::isnan(a.mean()));      // the NaN propagates into the mean
   EXPECT_TRUE(std::isnan(a.variance()));  // and into the variance
-  EXPECT_EQ(a.variance_of_finite(), 7.0 / 3.0);
+  EXPECT_DOUBLE_EQ(a.variance_of_finite(), 7.0 / 3.0);
 }
 
 TEST(TallyNonfinite, InfinityPropagatesIntoTheMean) {

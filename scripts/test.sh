@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# The README's second command (and CI's): set up a fresh Debian 12 machine, build in Release and
+# run the `ci` tests, then build with ASan + UBSan and run the `sanitize` subset. Prints where
+# the time went. Fails if any step or test fails.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+tally=()
+step() {  # step NAME COMMAND...: runs and times one step
+  local name=$1 start=$SECONDS
+  shift
+  echo "== $name"
+  "$@"
+  tally+=("$(printf '%-28s %5d s' "$name" $((SECONDS - start)))")
+}
+
+jobs=$(nproc)
+step "install Debian packages" bash scripts/install-deps.sh
+step "configure (release)" cmake --preset release
+step "build (release)" cmake --build --preset release
+step "tests: ci (release)" ctest --preset ci -j "$jobs"
+step "configure (asan)" cmake --preset asan
+step "build (asan)" cmake --build --preset asan --target pcbench_tests
+step "tests: sanitize (asan)" ctest --preset asan -j "$jobs"
+
+echo "== time by step"
+printf '%s\n' "${tally[@]}"
+echo "total                        $SECONDS s"
