@@ -36,8 +36,8 @@ struct Counters {
 // The resampling step of one camera sample, as made: P over the pool and the pool indices drawn.
 struct ResamplingRecord {
   std::uint32_t sample = 0;
-  std::vector<double> pmf;            // P(j | y, X) for j < M
-  std::vector<std::uint32_t> draws;   // xi_1 .. xi_K
+  std::vector<double> pmf;           // P(j | y, X) for j < M
+  std::vector<std::uint32_t> draws;  // xi_1 .. xi_K
 };
 
 struct BatchContext {

@@ -3,12 +3,11 @@
 namespace pcbench {
 
 void PlainEstimator::estimate_batch(const BatchContext& ctx, PathWorkspace& paths,
-                                    EstimatorScratch& scratch,
-                                    std::span<double> estimates) const {
+                                    EstimatorScratch& scratch, std::span<double> estimates) const {
   const std::uint32_t n = ctx.sample_count;
   paths.clear();
-  paths.sample_paths(PathSide::kCamera, ctx.stream(StreamPurpose::kCameraPath), ctx.first_sample,
-                     n, 1);
+  paths.sample_paths(PathSide::kCamera, ctx.stream(StreamPurpose::kCameraPath), ctx.first_sample, n,
+                     1);
   paths.sample_paths(PathSide::kLight, ctx.stream(StreamPurpose::kLightPool), ctx.first_sample, n,
                      1);
   scratch.pairs.resize(n);

@@ -55,8 +55,10 @@ GridRequest grid_from_flags(const RunArguments& args) {
   grid.where = "command line";
   grid.estimators = args.estimators;
   grid.integrands = args.integrands;
-  if (grid.estimators.empty()) throw InputError("command line: --estimator is required (or give a suite file)");
-  if (grid.integrands.empty()) throw InputError("command line: --integrand is required (or give a suite file)");
+  if (grid.estimators.empty())
+    throw InputError("command line: --estimator is required (or give a suite file)");
+  if (grid.integrands.empty())
+    throw InputError("command line: --integrand is required (or give a suite file)");
   for (const std::string& param : args.params) {
     const auto equals = param.find('=');
     if (equals == std::string::npos || equals == 0) {
@@ -115,12 +117,12 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
   const std::vector<RunPlan> plans = plan_runs(grids, budget);
   if (!args.out_dir.empty() && std::filesystem::exists(args.out_dir) &&
       !std::filesystem::is_directory(args.out_dir)) {
-    throw InputError(fmt::format("command line: --out '{}' exists and is not a folder",
-                                 args.out_dir));
+    throw InputError(
+        fmt::format("command line: --out '{}' exists and is not a folder", args.out_dir));
   }
 
-  session.threads = args.threads > 0 ? args.threads
-                                     : static_cast<unsigned>(tbb::info::default_concurrency());
+  session.threads =
+      args.threads > 0 ? args.threads : static_cast<unsigned>(tbb::info::default_concurrency());
   session.quiet = args.quiet;
   session.argv = argv;
   session.interrupted = interrupted;
@@ -133,7 +135,8 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
 
 int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
             const std::atomic<bool>* interrupted) {
-  CLI::App app{"pcbench: benchmarks and verifies Monte Carlo light-transport estimators", "pcbench"};
+  CLI::App app{"pcbench: benchmarks and verifies Monte Carlo light-transport estimators",
+               "pcbench"};
   app.set_version_flag("--version", std::string("pcbench ") + pcbench_version());
   app.require_subcommand(1);
 

@@ -16,12 +16,12 @@ using Json = nlohmann::ordered_json;
 Json params_json(const std::vector<ParamSpec>& specs) {
   Json out = Json::array();
   for (const ParamSpec& spec : specs) {
-    out.push_back(Json{{"name", spec.name},
-                       {"type", describe_type(spec)},
-                       {"default", spec.required || spec.optional ? Json(nullptr)
-                                                                  : Json(spec.default_value)},
-                       {"required", spec.required},
-                       {"description", spec.description}});
+    out.push_back(
+        Json{{"name", spec.name},
+             {"type", describe_type(spec)},
+             {"default", spec.required || spec.optional ? Json(nullptr) : Json(spec.default_value)},
+             {"required", spec.required},
+             {"description", spec.description}});
   }
   return out;
 }
@@ -55,7 +55,7 @@ void print_registry(std::ostream& out, bool as_json) {
                                 {"description", i.description}});
     }
     out << Json{{"estimators", estimators}, {"integrands", integrands}, {"scenes", Json::array()}}
-                   .dump(2)
+               .dump(2)
         << "\n";
     return;
   }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -33,7 +34,8 @@ const std::string& ResolvedParams::text(const std::string& name) const {
 
 std::string to_text(const ParamValue& value) {
   if (const auto* i = std::get_if<std::int64_t>(&value)) return fmt::format("{}", *i);
-  if (const auto* r = std::get_if<double>(&value)) return fmt::format("{}", *r);
+  // -0 and 0 are the same parameter value, and must give the same run id.
+  if (const auto* r = std::get_if<double>(&value)) return fmt::format("{}", *r == 0.0 ? 0.0 : *r);
   return std::get<std::string>(value);
 }
 
@@ -67,6 +69,11 @@ ParamValue parse_param(const ParamSpec& spec, const std::string& text, const std
     return InputError(fmt::format("{}: parameter '{}' = '{}': {}; expected {}", where, spec.name,
                                   text, why, describe_type(spec)));
   };
+  // strtod and strtoll skip leading blanks; refuse them so that " 3" and "3 " are treated alike.
+  if (!text.empty() && std::isspace(static_cast<unsigned char>(text.front())) &&
+      (spec.type == ParamType::kInt || spec.type == ParamType::kReal)) {
+    throw fail("leading blank");
+  }
   const auto check_range = [&](double v) {
     if (v < spec.min || v > spec.max) throw fail("out of range");
   };

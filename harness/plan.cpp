@@ -62,8 +62,8 @@ std::vector<Row> expand(const GridRequest& grid) {
       for (const auto& [key, values] : grid.params) {
         if (!declares(estimator.params, key) && !declares(integrand.params, key)) continue;
         keys_read.insert(key);
-        if (values.empty()) throw InputError(fmt::format("{}: parameter '{}' has no values",
-                                                         grid.where, key));
+        if (values.empty())
+          throw InputError(fmt::format("{}: parameter '{}' has no values", grid.where, key));
         std::vector<ParamText> next;
         for (const ParamText& base : partial) {
           for (const std::string& value : values) {
@@ -88,9 +88,8 @@ std::vector<Row> expand(const GridRequest& grid) {
       readers += fmt::format("; integrand '{}' reads: {}", name,
                              names_or_none(find_integrand(name).params));
     }
-    throw InputError(
-        fmt::format("{}: parameter '{}' is read by no estimator or integrand{}", grid.where, key,
-                    readers));
+    throw InputError(fmt::format("{}: parameter '{}' is read by no estimator or integrand{}",
+                                 grid.where, key, readers));
   }
   return rows;
 }
@@ -113,8 +112,8 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
   std::vector<RunPlan> plans;
   std::set<std::uint64_t> seen;
   for (const GridRequest& grid : grids) {
-    if (grid.expect &&
-        std::find(kExpectations.begin(), kExpectations.end(), *grid.expect) == kExpectations.end()) {
+    if (grid.expect && std::find(kExpectations.begin(), kExpectations.end(), *grid.expect) ==
+                           kExpectations.end()) {
       throw InputError(fmt::format("{}: expect '{}' is not valid; valid: {}", grid.where,
                                    *grid.expect, join_names(kExpectations)));
     }
@@ -145,8 +144,10 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
       plan.expect = grid.expect;
 
       std::map<std::string, std::string> effective;
-      for (const auto& [key, value] : plan.estimator_params.values()) effective[key] = to_text(value);
-      for (const auto& [key, value] : plan.integrand_params.values()) effective[key] = to_text(value);
+      for (const auto& [key, value] : plan.estimator_params.values())
+        effective[key] = to_text(value);
+      for (const auto& [key, value] : plan.integrand_params.values())
+        effective[key] = to_text(value);
       plan.id_hash = run_id_hash(row.estimator->name, row.integrand->name, effective, plan.samples,
                                  plan.replicates);
       if (!seen.insert(plan.id_hash).second) continue;  // identical rows collapse into one

@@ -61,8 +61,7 @@ struct RunPlan {
 
 // Expands every grid, resolves and builds each row, and collapses rows with the same id (the
 // first occurrence stays). Throws InputError on the first bad input.
-std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
-                               const BudgetDefaults& budget);
+std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids, const BudgetDefaults& budget);
 
 // The id of a run: a hash of estimator, integrand, effective params, samples and replicates.
 std::uint64_t run_id_hash(const std::string& estimator, const std::string& integrand,

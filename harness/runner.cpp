@@ -156,9 +156,9 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   }
   result.status = result.first_nonfinite ? RunStatus::kInvalid : RunStatus::kOk;
   if (result.first_nonfinite) {
-    result.error = fmt::format("non-finite sample estimate (first at seed {}, replicate {}, sample {})",
-                               options.seed, result.first_nonfinite->replicate,
-                               result.first_nonfinite->sample);
+    result.error = fmt::format(
+        "non-finite sample estimate (first at seed {}, replicate {}, sample {})", options.seed,
+        result.first_nonfinite->replicate, result.first_nonfinite->sample);
   }
   return result;
 }

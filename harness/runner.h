@@ -25,8 +25,8 @@ struct ReplicateResult {
   std::uint64_t n = 0;
   std::uint64_t nonfinite = 0;
   std::optional<std::uint64_t> first_nonfinite_sample;
-  double seconds = 0.0;      // wall time of this replicate's chunks, summed
-  double cpu_seconds = 0.0;  // thread CPU time of this replicate's chunks, summed
+  double seconds = 0.0;         // wall time of this replicate's chunks, summed
+  double cpu_seconds = 0.0;     // thread CPU time of this replicate's chunks, summed
   std::vector<double> largest;  // the largest |per-sample estimate|, largest first
 };
 

@@ -50,8 +50,8 @@ std::string default_expectation(const RunPlan& plan, const Reference& reference)
 
 }  // namespace
 
-int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options,
-                std::ostream& out, std::ostream& err) {
+int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
+                std::ostream& err) {
   std::vector<RunRecord> records;
   records.reserve(plans.size());
   bool interrupted = false;
@@ -72,11 +72,13 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
       if (record.result.status == RunStatus::kNotRun) interrupted = true;
     }
     if (record.result.status == RunStatus::kOk) {
-      record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
+      record.aggregates =
+          aggregate(record.result.replicates, record.result.reference, plan.samples);
       record.verdict = test_against_reference(record.result.replicates, record.result.reference,
                                               default_expectation(plan, record.result.reference));
     } else if (record.result.status == RunStatus::kInvalid) {
-      record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
+      record.aggregates =
+          aggregate(record.result.replicates, record.result.reference, plan.samples);
     }
     records.push_back(std::move(record));
   }

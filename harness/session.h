@@ -33,7 +33,7 @@ struct SessionOptions {
   const std::atomic<bool>* interrupted = nullptr;
 };
 
-int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options,
-                std::ostream& out, std::ostream& err);
+int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
+                std::ostream& err);
 
 }  // namespace pcbench

@@ -35,7 +35,8 @@ double t_quantile(double probability, double dof) {
 double student_t_p_value(double t, double dof) {
   if (std::isnan(t)) return kNaN;
   if (std::isinf(t)) return 0.0;
-  return 2.0 * boost::math::cdf(boost::math::complement(boost::math::students_t(dof), std::fabs(t)));
+  return 2.0 *
+         boost::math::cdf(boost::math::complement(boost::math::students_t(dof), std::fabs(t)));
 }
 
 Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Reference& reference,
@@ -127,21 +128,21 @@ void decide_family(std::vector<Verdict*>& verdicts, double alpha) {
     v.p_adjusted = running_max;
     const bool reject = v.p_adjusted <= alpha;
     v.result = reject ? "biased" : "consistent";
-    v.reason = reject ? fmt::format("the mean differs from the reference by {:.3g} standard "
-                                    "errors (Holm-adjusted p = {:.3g} <= alpha = {})",
-                                    v.statistic, v.p_adjusted, alpha)
-                      : fmt::format("no evidence of bias: t = {:.3g}, Holm-adjusted p = {:.3g} > "
-                                    "alpha = {}",
-                                    v.statistic, v.p_adjusted, alpha);
+    v.reason = reject ? fmt::format(
+                            "the mean differs from the reference by {:.3g} standard "
+                            "errors (Holm-adjusted p = {:.3g} <= alpha = {})",
+                            v.statistic, v.p_adjusted, alpha)
+                      : fmt::format(
+                            "no evidence of bias: t = {:.3g}, Holm-adjusted p = {:.3g} > "
+                            "alpha = {}",
+                            v.statistic, v.p_adjusted, alpha);
     // The bias a two-sided test at the Bonferroni share alpha / m detects with 80% power
     // (normal-theory approximation with Student quantiles).
     const double share = alpha / static_cast<double>(m);
-    const double multiplier =
-        t_quantile(1.0 - share / 2.0, v.dof) + t_quantile(kPower, v.dof);
+    const double multiplier = t_quantile(1.0 - share / 2.0, v.dof) + t_quantile(kPower, v.dof);
     v.min_detectable_bias = multiplier * v.test_stderr;
-    v.min_detectable_rel_bias = v.reference_value != 0.0
-                                    ? v.min_detectable_bias / std::fabs(v.reference_value)
-                                    : kNaN;
+    v.min_detectable_rel_bias =
+        v.reference_value != 0.0 ? v.min_detectable_bias / std::fabs(v.reference_value) : kNaN;
   }
 }
 

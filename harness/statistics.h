@@ -23,8 +23,8 @@ struct Aggregates {
   double mean = 0.0;
   double stderr_of_mean = 0.0;  // across replicates
   double bias = 0.0;
-  double rmse = 0.0;     // of one replicate's estimate against the reference
-  double rel_mse = 0.0;  // mse / reference²
+  double rmse = 0.0;                // of one replicate's estimate against the reference
+  double rel_mse = 0.0;             // mse / reference²
   double seconds_per_sample = 0.0;  // thread CPU seconds per camera sample
   double efficiency = 0.0;          // 1 / (per-sample variance × seconds per sample)
 };

@@ -54,8 +54,8 @@ class SuiteParser {
       const Json& rows = root[section];
       if (!rows.is_array()) fail(where, "must be an array");
       for (std::size_t i = 0; i < rows.size(); ++i) {
-        suite.grids.push_back(row(rows[i], fmt::format("{}/{}", where, i),
-                                  std::string(section) == "grid"));
+        suite.grids.push_back(
+            row(rows[i], fmt::format("{}/{}", where, i), std::string(section) == "grid"));
       }
     }
     if (suite.grids.empty()) fail("", "the suite has no \"runs\" and no \"grid\" entries");

@@ -40,7 +40,8 @@ Row row_of(const RunRecord& record) {
   const RunPlan& plan = *record.plan;
   const RunResult& result = record.result;
   std::string params = changed_params(plan.estimator->params, plan.estimator_params);
-  const std::string integrand_params = changed_params(plan.integrand->params, plan.integrand_params);
+  const std::string integrand_params =
+      changed_params(plan.integrand->params, plan.integrand_params);
   if (params == "-") {
     params = integrand_params;
   } else if (integrand_params != "-") {
@@ -52,10 +53,9 @@ Row row_of(const RunRecord& record) {
       has_stats ? fmt::format("{} ± {}", number(a.mean), number(a.stderr_of_mean)) : "-";
   const std::string reference =
       result.reference.kind == ReferenceKind::kNone ? "-" : number(result.reference.value);
-  const std::string bias_in_se =
-      has_stats && std::isfinite(a.bias) && a.stderr_of_mean > 0.0
-          ? fmt::format("{:+.2f}", a.bias / a.stderr_of_mean)
-          : "-";
+  const std::string bias_in_se = has_stats && std::isfinite(a.bias) && a.stderr_of_mean > 0.0
+                                     ? fmt::format("{:+.2f}", a.bias / a.stderr_of_mean)
+                                     : "-";
   std::string verdict = to_string(result.status);
   if (record.verdict) {
     verdict = record.verdict->result;
@@ -63,21 +63,27 @@ Row row_of(const RunRecord& record) {
       verdict += fmt::format(" (expected {})", record.verdict->expect);
     }
   }
-  return {plan.estimator->name, plan.integrand->name, params, estimate, reference, bias_in_se,
-          fmt::format("{:.2f}", result.wall_seconds), verdict};
+  return {plan.estimator->name,
+          plan.integrand->name,
+          params,
+          estimate,
+          reference,
+          bias_in_se,
+          fmt::format("{:.2f}", result.wall_seconds),
+          verdict};
 }
 
 }  // namespace
 
 void print_summary(const std::vector<RunRecord>& records, std::ostream& out) {
-  std::vector<Row> rows = {
-      {"estimator", "integrand", "params", "mean ± stderr", "reference", "bias/se", "seconds",
-       "verdict"}};
+  std::vector<Row> rows = {{"estimator", "integrand", "params", "mean ± stderr", "reference",
+                            "bias/se", "seconds", "verdict"}};
   for (const RunRecord& record : records) rows.push_back(row_of(record));
   // Widths in code points: "±" is two bytes in UTF-8 but one column on screen.
   const auto columns = [](const std::string& text) {
-    return static_cast<std::size_t>(std::count_if(
-        text.begin(), text.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+    return static_cast<std::size_t>(std::count_if(text.begin(), text.end(), [](char c) {
+      return (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+    }));
   };
   std::array<std::size_t, kColumns> width{};
   for (const Row& row : rows) {

@@ -97,8 +97,9 @@ class Tally {
   // Unbiased sample variance of the finite samples (n - 1 in the denominator); NaN if n < 2.
   double variance_of_finite() const;
   // Variance of all samples: NaN once any sample was not finite.
-  double variance() const { return nonfinite_ > 0 ? std::numeric_limits<double>::quiet_NaN()
-                                                  : variance_of_finite(); }
+  double variance() const {
+    return nonfinite_ > 0 ? std::numeric_limits<double>::quiet_NaN() : variance_of_finite();
+  }
   std::optional<std::uint64_t> first_nonfinite_sample() const { return first_nonfinite_; }
   const LargestValues& largest() const { return largest_; }
 

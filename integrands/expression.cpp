@@ -11,15 +11,26 @@ namespace pcbench {
 
 std::vector<ParamSpec> ExpressionModel::params() {
   return {
-      {.name = "f", .type = ParamType::kText,
+      {.name = "f",
+       .type = ParamType::kText,
        .description = "muparser expression in x0.. (light side) and y0.. (camera side)",
        .required = true},
-      {.name = "light_dims", .type = ParamType::kInt, .default_value = "1",
-       .description = "dimensions of x (the light side)", .min = 1, .max = 32},
-      {.name = "camera_dims", .type = ParamType::kInt, .default_value = "1",
-       .description = "dimensions of y (the camera side)", .min = 1, .max = 32},
-      {.name = "exact", .type = ParamType::kReal,
-       .description = "exact value of the integral, if known", .optional = true},
+      {.name = "light_dims",
+       .type = ParamType::kInt,
+       .default_value = "1",
+       .description = "dimensions of x (the light side)",
+       .min = 1,
+       .max = 32},
+      {.name = "camera_dims",
+       .type = ParamType::kInt,
+       .default_value = "1",
+       .description = "dimensions of y (the camera side)",
+       .min = 1,
+       .max = 32},
+      {.name = "exact",
+       .type = ParamType::kReal,
+       .description = "exact value of the integral, if known",
+       .optional = true},
   };
 }
 
@@ -36,15 +47,15 @@ ExpressionModel::ExpressionModel(const ResolvedParams& params)
     std::fill_n(variables_.get(), light_dims_ + camera_dims_, 0.5);
     parser_->Eval();
   } catch (const mu::Parser::exception_type& e) {
-    const int pos = std::max(0, e.GetPos());
+    // muparser may report the position one past the end of the text; keep the caret on it.
+    const int pos = std::clamp(e.GetPos(), 0, static_cast<int>(expression_.size()));
     std::vector<std::string> names;
     for (int i = 0; i < light_dims_; ++i) names.push_back(fmt::format("x{}", i));
     for (int i = 0; i < camera_dims_; ++i) names.push_back(fmt::format("y{}", i));
     throw InputError(fmt::format(
         "integrand 'expr', parameter 'f', position {}: {}\n  {}\n  {:>{}}\n"
         "variables: {} (light_dims={}, camera_dims={})",
-        pos, e.GetMsg(), expression_, "^", pos + 1, join_names(names), light_dims_,
-        camera_dims_));
+        pos, e.GetMsg(), expression_, "^", pos + 1, join_names(names), light_dims_, camera_dims_));
   }
 }
 

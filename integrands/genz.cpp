@@ -8,20 +8,38 @@ namespace {
 
 std::vector<ParamSpec> genz_params(const char* sharpness_default, const char* center_default) {
   return {
-      {.name = "light_dims", .type = ParamType::kInt, .default_value = "1",
-       .description = "dimensions of x (the light side)", .min = 1, .max = 32},
-      {.name = "camera_dims", .type = ParamType::kInt, .default_value = "1",
-       .description = "dimensions of y (the camera side)", .min = 1, .max = 32},
-      {.name = "sharpness", .type = ParamType::kReal, .default_value = sharpness_default,
-       .description = "Genz difficulty s, the same in every dimension", .min = 1e-6, .max = 1e6},
-      {.name = "center", .type = ParamType::kReal, .default_value = center_default,
-       .description = "Genz shift c", .min = 0, .max = 1},
+      {.name = "light_dims",
+       .type = ParamType::kInt,
+       .default_value = "1",
+       .description = "dimensions of x (the light side)",
+       .min = 1,
+       .max = 32},
+      {.name = "camera_dims",
+       .type = ParamType::kInt,
+       .default_value = "1",
+       .description = "dimensions of y (the camera side)",
+       .min = 1,
+       .max = 32},
+      {.name = "sharpness",
+       .type = ParamType::kReal,
+       .default_value = sharpness_default,
+       .description = "Genz difficulty s, the same in every dimension",
+       .min = 1e-6,
+       .max = 1e6},
+      {.name = "center",
+       .type = ParamType::kReal,
+       .default_value = center_default,
+       .description = "Genz shift c",
+       .min = 0,
+       .max = 1},
   };
 }
 
 }  // namespace
 
-std::vector<ParamSpec> GenzGaussian::params() { return genz_params("4", "0.5"); }
+std::vector<ParamSpec> GenzGaussian::params() {
+  return genz_params("4", "0.5");
+}
 
 GenzGaussian::GenzGaussian(const ResolvedParams& params)
     : light_dims_(static_cast<int>(params.integer("light_dims"))),
@@ -36,7 +54,9 @@ Reference GenzGaussian::reference() const {
   return {.value = std::pow(one_dim, light_dims_ + camera_dims_), .kind = ReferenceKind::kExact};
 }
 
-std::vector<ParamSpec> GenzOscillatory::params() { return genz_params("3", "0.25"); }
+std::vector<ParamSpec> GenzOscillatory::params() {
+  return genz_params("3", "0.25");
+}
 
 GenzOscillatory::GenzOscillatory(const ResolvedParams& params)
     : light_dims_(static_cast<int>(params.integer("light_dims"))),

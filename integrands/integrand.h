@@ -26,7 +26,7 @@ const char* to_string(ReferenceKind kind);
 struct Reference {
   double value = std::numeric_limits<double>::quiet_NaN();
   ReferenceKind kind = ReferenceKind::kNone;
-  double uncertainty = 0.0;  // standard error of `value` (0 for exact)
+  double uncertainty = 0.0;                              // standard error of `value` (0 for exact)
   double dof = std::numeric_limits<double>::infinity();  // degrees of freedom of `uncertainty`
 };
 

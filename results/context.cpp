@@ -49,7 +49,9 @@ std::string utc_now_iso8601() {
 
 }  // namespace
 
-const char* pcbench_version() { return PCBENCH_VERSION; }
+const char* pcbench_version() {
+  return PCBENCH_VERSION;
+}
 
 Context gather_context(std::vector<std::string> argv, std::uint64_t seed, unsigned threads) {
   Context context;
@@ -60,6 +62,7 @@ Context gather_context(std::vector<std::string> argv, std::uint64_t seed, unsign
   context.cores = std::thread::hardware_concurrency();
   context.compiler = PCBENCH_COMPILER;
   context.flags = PCBENCH_CXX_FLAGS;
+  context.flags.erase(0, context.flags.find_first_not_of(' '));
   context.build_type = PCBENCH_BUILD_TYPE;
   // The commit of the source tree the binary was built from, read now (a build-time value goes
   // stale between rebuilds).

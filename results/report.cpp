@@ -41,36 +41,53 @@ Json context_json(const Context& c) {
   Json dirty = nullptr;
   if (c.git_dirty == "true") dirty = true;
   if (c.git_dirty == "false") dirty = false;
-  return Json{{"date", c.date},         {"host", c.host},
-              {"cpu", c.cpu},           {"cores", c.cores},
-              {"compiler", c.compiler}, {"flags", c.flags},
-              {"build_type", c.build_type}, {"git_commit", c.git_commit},
-              {"git_dirty", dirty},     {"argv", c.argv},
-              {"seed", c.seed},         {"threads", c.threads},
+  return Json{{"date", c.date},
+              {"host", c.host},
+              {"cpu", c.cpu},
+              {"cores", c.cores},
+              {"compiler", c.compiler},
+              {"flags", c.flags},
+              {"build_type", c.build_type},
+              {"git_commit", c.git_commit},
+              {"git_dirty", dirty},
+              {"argv", c.argv},
+              {"seed", c.seed},
+              {"threads", c.threads},
               {"pcbench_version", c.version}};
 }
 
-Json reference_json(const Reference& reference) {
-  const bool none = reference.kind == ReferenceKind::kNone;
-  return Json{{"value", none ? Json(nullptr) : Json(reference.value)},
+// The reference's dof is infinite for exact references by definition: written as null, not
+// counted as a non-finite result.
+Json reference_json(const Reference& reference, NumberWriter& numbers) {
+  if (reference.kind == ReferenceKind::kNone) {
+    return Json{{"value", nullptr}, {"kind", "none"}, {"uncertainty", nullptr}, {"dof", nullptr}};
+  }
+  return Json{{"value", numbers.number(reference.value, "reference/value")},
               {"kind", to_string(reference.kind)},
-              {"uncertainty", none ? Json(nullptr) : Json(reference.uncertainty)},
-              {"dof", std::isfinite(reference.dof) && !none ? Json(reference.dof) : Json(nullptr)}};
+              {"uncertainty", numbers.number(reference.uncertainty, "reference/uncertainty")},
+              {"dof", NumberWriter::optional_number(reference.dof)}};
 }
 
-Json verdict_json(const Verdict& v) {
-  const auto opt = NumberWriter::optional_number;
+// Figures of a test that was not made (no reference) are null by design; those of a test that
+// was made are results, and a non-finite one is named.
+Json verdict_json(const Verdict& v, NumberWriter& numbers) {
+  const auto figure = [&](double value, const char* name) {
+    return v.tested ? numbers.number(value, fmt::format("verdict/{}", name)) : Json(nullptr);
+  };
   return Json{{"test", v.test},
-              {"statistic", opt(v.statistic)},
-              {"dof", opt(v.dof)},
-              {"p_value", opt(v.p_value)},
-              {"p_adjusted", opt(v.p_adjusted)},
+              {"statistic", figure(v.statistic, "statistic")},
+              {"dof", figure(v.dof, "dof")},
+              {"p_value", figure(v.p_value, "p_value")},
+              {"p_adjusted", figure(v.p_adjusted, "p_adjusted")},
               {"alpha", v.alpha},
               {"result", v.result},
               {"reason", v.reason},
               {"expect", v.expect},
-              {"min_detectable_bias", opt(v.min_detectable_bias)},
-              {"min_detectable_rel_bias", opt(v.min_detectable_rel_bias)}};
+              {"min_detectable_bias", figure(v.min_detectable_bias, "min_detectable_bias")},
+              {"min_detectable_rel_bias",
+               v.tested && v.reference_value != 0.0
+                   ? numbers.number(v.min_detectable_rel_bias, "verdict/min_detectable_rel_bias")
+                   : Json(nullptr)}};
 }
 
 Json run_json(const RunRecord& record, std::uint64_t seed) {
@@ -103,16 +120,16 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
       return has_reference ? numbers.number(value, fmt::format("aggregates/{}", name))
                            : Json(nullptr);
     };
-    aggregates = Json{
-        {"mean", numbers.number(a.mean, "aggregates/mean")},
-        {"stderr", numbers.number(a.stderr_of_mean, "aggregates/stderr")},
-        {"bias", with_reference(a.bias, "bias")},
-        {"rmse", with_reference(a.rmse, "rmse")},
-        {"rel_mse", has_reference && result.reference.value != 0.0
-                        ? numbers.number(a.rel_mse, "aggregates/rel_mse")
-                        : Json(nullptr)},
-        {"seconds_per_sample", numbers.number(a.seconds_per_sample, "aggregates/seconds_per_sample")},
-        {"efficiency", numbers.number(a.efficiency, "aggregates/efficiency")}};
+    aggregates = Json{{"mean", numbers.number(a.mean, "aggregates/mean")},
+                      {"stderr", numbers.number(a.stderr_of_mean, "aggregates/stderr")},
+                      {"bias", with_reference(a.bias, "bias")},
+                      {"rmse", with_reference(a.rmse, "rmse")},
+                      {"rel_mse", has_reference && result.reference.value != 0.0
+                                      ? numbers.number(a.rel_mse, "aggregates/rel_mse")
+                                      : Json(nullptr)},
+                      {"seconds_per_sample",
+                       numbers.number(a.seconds_per_sample, "aggregates/seconds_per_sample")},
+                      {"efficiency", numbers.number(a.efficiency, "aggregates/efficiency")}};
   }
 
   Json first_nonfinite = nullptr;
@@ -123,25 +140,27 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
   }
 
   const Counters& c = result.counters;
-  Json run{{"id", plan.id},
-           {"estimator", plan.estimator->name},
-           {"integrand", plan.integrand->name},
-           {"params", params},
-           {"status", to_string(result.status)},
-           {"error", result.error.empty() ? Json(nullptr) : Json(result.error)},
-           {"reference", reference_json(result.reference)},
-           {"samples", plan.samples},
-           {"pool", plan.estimator_params.has("pool") ? plan.estimator_params.text("pool") : "fresh"},
-           {"wall_seconds", result.wall_seconds},
-           {"replicates", replicates},
-           {"aggregates", aggregates},
-           {"verdict", record.verdict ? verdict_json(*record.verdict) : Json(nullptr)},
-           {"first_nonfinite", first_nonfinite},
-           {"counters", Json{{"camera_paths", c.camera_paths},
-                             {"light_paths", c.light_paths},
-                             {"connections", c.connections},
-                             {"importance_evaluations", c.importance_evaluations}}},
-           {"series", Json::array()}};
+  Json run{
+      {"id", plan.id},
+      {"estimator", plan.estimator->name},
+      {"integrand", plan.integrand->name},
+      {"params", params},
+      {"status", to_string(result.status)},
+      {"error", result.error.empty() ? Json(nullptr) : Json(result.error)},
+      {"reference", reference_json(result.reference, numbers)},
+      {"samples", plan.samples},
+      {"replicates_requested", plan.replicates},
+      {"pool", plan.estimator_params.has("pool") ? plan.estimator_params.text("pool") : "fresh"},
+      {"wall_seconds", result.wall_seconds},
+      {"replicates", replicates},
+      {"aggregates", aggregates},
+      {"verdict", record.verdict ? verdict_json(*record.verdict, numbers) : Json(nullptr)},
+      {"first_nonfinite", first_nonfinite},
+      {"counters", Json{{"camera_paths", c.camera_paths},
+                        {"light_paths", c.light_paths},
+                        {"connections", c.connections},
+                        {"importance_evaluations", c.importance_evaluations}}},
+      {"series", Json::array()}};
   run["nonfinite_fields"] = numbers.nonfinite();
   return run;
 }

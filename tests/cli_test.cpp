@@ -6,8 +6,8 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "tests/test_support.h"
@@ -119,8 +119,8 @@ TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
 
 TEST_F(CliInFolder, OutputThatIsAFileIsBadInput) {
   { std::ofstream file("taken"); }
-  const CliResult r = cli({"run", "-e", "plain", "-i", "genz-gaussian", "-n", "100", "-r", "2",
-                           "--out", "taken"});
+  const CliResult r =
+      cli({"run", "-e", "plain", "-i", "genz-gaussian", "-n", "100", "-r", "2", "--out", "taken"});
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("not a folder"), std::string::npos);
 }
@@ -133,8 +133,8 @@ TEST_F(CliInFolder, DefaultOutputFolderAndLatestLink) {
   EXPECT_NE(r.out.find("report: results/runs/"), std::string::npos);
   EXPECT_NE(r.out.find("mean ± stderr"), std::string::npos);  // the summary table
   // A second run gets its own folder, and latest follows it.
-  const CliResult again = cli({"run", "-e", "plain", "-i", "genz-gaussian", "-n", "1000", "-r", "4",
-                               "--quiet"});
+  const CliResult again =
+      cli({"run", "-e", "plain", "-i", "genz-gaussian", "-n", "1000", "-r", "4", "--quiet"});
   ASSERT_EQ(again.status, 0);
   EXPECT_EQ(again.out.find("mean ± stderr"), std::string::npos);  // --quiet: no table
   EXPECT_EQ(files_under(folder() / "results" / "runs").size(), 2u);
@@ -159,9 +159,18 @@ nlohmann::json numbers_of(nlohmann::json report) {
 }
 
 TEST_F(CliInFolder, ReportNumbersAreIdenticalForOneAndTwoThreads) {
-  const std::vector<std::string> common = {
-      "run", "-e", "plain", "-i", "genz-gaussian,genz-oscillatory", "-p", "light_dims=1,2",
-      "-n", "30001", "-r", "5", "--quiet"};
+  const std::vector<std::string> common = {"run",
+                                           "-e",
+                                           "plain",
+                                           "-i",
+                                           "genz-gaussian,genz-oscillatory",
+                                           "-p",
+                                           "light_dims=1,2",
+                                           "-n",
+                                           "30001",
+                                           "-r",
+                                           "5",
+                                           "--quiet"};
   auto one = common, two = common;
   one.insert(one.end(), {"--threads", "1", "--out", "one"});
   two.insert(two.end(), {"--threads", "2", "--out", "two"});
@@ -185,9 +194,9 @@ TEST_F(CliInFolder, ExitStatusOneWhenAVerdictDiffersFromItsExpectation) {
 }
 
 TEST_F(CliInFolder, ExitStatusThreeWhenARunHasNonfiniteSamples) {
-  const CliResult r = cli({"run", "-e", "plain", "-i", "expr,genz-gaussian", "-p",
-                           "f=x0 < 0.01 ? 1/0 : x0", "-p", "exact=0.5", "-n", "2000", "-r", "3",
-                           "--out", "out"});
+  const CliResult r =
+      cli({"run", "-e", "plain", "-i", "expr,genz-gaussian", "-p", "f=x0 < 0.01 ? 1/0 : x0", "-p",
+           "exact=0.5", "-n", "2000", "-r", "3", "--out", "out"});
   EXPECT_EQ(r.status, 3);
   const auto report = report_at("out");
   ASSERT_EQ(report["runs"].size(), 2u);

@@ -1,1 +1,398 @@
+#include "harness/plan.h"
+
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <regex>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "harness/errors.h"
+
+namespace pcbench {
+namespace {
+
+using Values = std::map<std::string, std::vector<std::string>>;
+
+GridRequest grid(std::vector<std::string> estimators, std::vector<std::string> integrands,
+                 Values params = {}, std::string where = "test") {
+  GridRequest g;
+  g.estimators = std::move(estimators);
+  g.integrands = std::move(integrands);
+  g.params = std::move(params);
+  g.where = std::move(where);
+  return g;
+}
+
+GridRequest row(const std::string& integrand, Values params = {}, std::string where = "test") {
+  return grid({"plain"}, {integrand}, std::move(params), std::move(where));
+}
+
+// The InputError message of plan_runs(grids, budget), or "" when it does not throw.
+std::string plan_error(const std::vector<GridRequest>& grids, const BudgetDefaults& budget = {}) {
+  try {
+    plan_runs(grids, budget);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+std::string single_id(const GridRequest& request, const BudgetDefaults& budget = {}) {
+  const std::vector<RunPlan> plans = plan_runs({request}, budget);
+  EXPECT_EQ(plans.size(), 1u);
+  return plans.empty() ? std::string() : plans[0].id;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Grid expansion
+
+TEST(PlanGrid, ExpandsToTheProductOfItsLists) {
+  const std::vector<RunPlan> plans = plan_runs(
+      {grid({"plain"}, {"genz-gaussian", "genz-oscillatory"}, {{"sharpness", {"1", "2", "3"}}})},
+      {});
+  ASSERT_EQ(plans.size(), 6u);
+  std::set<std::string> ids;
+  std::multiset<std::pair<std::string, double>> combinations;
+  for (const RunPlan& plan : plans) {
+    ids.insert(plan.id);
+    combinations.insert({plan.integrand->name, plan.integrand_params.real("sharpness")});
+    EXPECT_EQ(plan.estimator->name, "plain");
+    EXPECT_NE(plan.made_estimator, nullptr);
+    EXPECT_NE(plan.made_integrand, nullptr);
+  }
+  EXPECT_EQ(ids.size(), 6u);
+  const std::multiset<std::pair<std::string, double>> expected = {
+      {"genz-gaussian", 1.0},    {"genz-gaussian", 2.0},    {"genz-gaussian", 3.0},
+      {"genz-oscillatory", 1.0}, {"genz-oscillatory", 2.0}, {"genz-oscillatory", 3.0}};
+  EXPECT_EQ(combinations, expected);
+}
+
+TEST(PlanGrid, ProductOverTwoKeys) {
+  const std::vector<RunPlan> plans = plan_runs(
+      {row("genz-gaussian", {{"sharpness", {"1", "2"}}, {"light_dims", {"1", "2", "3"}}})}, {});
+  EXPECT_EQ(plans.size(), 6u);
+}
+
+TEST(PlanGrid, KeyARowDoesNotReadIsDroppedForThatRow) {
+  const std::vector<RunPlan> plans = plan_runs(
+      {grid({"plain"}, {"genz-gaussian", "expr"}, {{"sharpness", {"1", "2"}}, {"f", {"x0*y0"}}})},
+      {});
+  ASSERT_EQ(plans.size(), 3u);  // two genz-gaussian rows, one expr row
+  int gaussian = 0, expression = 0;
+  for (const RunPlan& plan : plans) {
+    if (plan.integrand->name == "expr") {
+      ++expression;
+      EXPECT_FALSE(plan.integrand_params.has("sharpness"));
+      EXPECT_EQ(plan.integrand_params.text("f"), "x0*y0");
+    } else {
+      ++gaussian;
+      EXPECT_FALSE(plan.integrand_params.has("f"));
+    }
+  }
+  EXPECT_EQ(gaussian, 2);
+  EXPECT_EQ(expression, 1);
+}
+
+TEST(PlanGrid, KeyReadByNoRowIsAnErrorListingWhatEachReads) {
+  const std::string message = plan_error({grid({"plain"}, {"genz-gaussian", "genz-oscillatory"},
+                                               {{"sharpnes", {"1"}}}, "suite.json: /grid/0")});
+  EXPECT_TRUE(contains(message, "suite.json: /grid/0")) << message;
+  EXPECT_TRUE(contains(message, "'sharpnes'")) << message;
+  EXPECT_TRUE(contains(message, "estimator 'plain' reads: none")) << message;
+  EXPECT_TRUE(contains(
+      message, "integrand 'genz-gaussian' reads: light_dims, camera_dims, sharpness, center"))
+      << message;
+  EXPECT_TRUE(contains(message, "integrand 'genz-oscillatory' reads:")) << message;
+}
+
+TEST(PlanGrid, ReadKeyWithoutValuesIsRejected) {
+  const std::string message = plan_error({row("genz-gaussian", {{"sharpness", {}}})});
+  EXPECT_TRUE(contains(message, "'sharpness'")) << message;
+  EXPECT_TRUE(contains(message, "no values")) << message;
+}
+
+TEST(PlanGrid, EmptyEstimatorOrIntegrandListIsRejected) {
+  EXPECT_TRUE(contains(plan_error({grid({}, {"genz-gaussian"})}), "no estimator"));
+  EXPECT_TRUE(contains(plan_error({grid({"plain"}, {})}), "no integrand"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Collapsing identical rows
+
+TEST(PlanCollapse, IdenticalRowsCollapseKeepingTheFirst) {
+  const std::vector<RunPlan> plans = plan_runs(
+      {row("genz-gaussian", {{"sharpness", {"2"}}}, "first"), row("genz-oscillatory", {}, "other"),
+       row("genz-gaussian", {{"sharpness", {"2"}}}, "second")},
+      {});
+  ASSERT_EQ(plans.size(), 2u);
+  EXPECT_EQ(plans[0].where, "first");
+  EXPECT_EQ(plans[1].where, "other");
+}
+
+TEST(PlanCollapse, EqualValuesSpelledDifferentlyInOneGridCollapse) {
+  const std::vector<RunPlan> plans =
+      plan_runs({row("genz-gaussian", {{"sharpness", {"4", "4.0", "4e0", "5"}}})}, {});
+  ASSERT_EQ(plans.size(), 2u);
+  EXPECT_EQ(plans[0].integrand_params.real("sharpness"), 4.0);
+  EXPECT_EQ(plans[1].integrand_params.real("sharpness"), 5.0);
+}
+
+TEST(PlanCollapse, RowsThatDifferOnlyInAKeyTheyDoNotReadCollapse) {
+  // `f` is dropped for genz-gaussian rows; the two remaining rows are the same run.
+  const std::vector<RunPlan> plans =
+      plan_runs({grid({"plain"}, {"genz-gaussian", "expr"}, {{"f", {"x0", "y0"}}})}, {});
+  ASSERT_EQ(plans.size(), 3u);  // genz-gaussian once, expr twice
+  EXPECT_EQ(std::count_if(plans.begin(), plans.end(),
+                          [](const RunPlan& p) { return p.integrand->name == "genz-gaussian"; }),
+            1);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Run ids
+
+TEST(PlanId, IsSixteenHexDigitsOfTheHash) {
+  const std::vector<RunPlan> plans =
+      plan_runs({row("genz-gaussian", {{"sharpness", {"1", "2", "3"}}})}, {});
+  const std::regex hex16("^[0-9a-f]{16}$");
+  for (const RunPlan& plan : plans) {
+    EXPECT_TRUE(std::regex_match(plan.id, hex16)) << plan.id;
+    EXPECT_EQ(std::stoull(plan.id, nullptr, 16), plan.id_hash) << plan.id;
+  }
+}
+
+TEST(PlanId, EqualsRunIdHashOfTheEffectiveParameters) {
+  BudgetDefaults budget;
+  budget.samples = 1234;
+  budget.replicates = 5;
+  const std::vector<RunPlan> plans = plan_runs({row("genz-gaussian")}, budget);
+  ASSERT_EQ(plans.size(), 1u);
+  EXPECT_EQ(plans[0].id_hash,
+            run_id_hash(
+                "plain", "genz-gaussian",
+                {{"camera_dims", "1"}, {"center", "0.5"}, {"light_dims", "1"}, {"sharpness", "4"}},
+                1234, 5));
+}
+
+TEST(PlanId, DependsOnIntegrandParamsSamplesAndReplicates) {
+  BudgetDefaults budget;
+  budget.samples = 1000;
+  budget.replicates = 8;
+  std::set<std::string> ids;
+  ids.insert(single_id(row("genz-gaussian"), budget));
+  ids.insert(single_id(row("genz-oscillatory"), budget));
+  ids.insert(single_id(row("genz-gaussian", {{"sharpness", {"5"}}}), budget));
+  ids.insert(single_id(row("genz-gaussian", {{"center", {"0.25"}}}), budget));
+  ids.insert(single_id(row("genz-gaussian", {{"light_dims", {"2"}}}), budget));
+  GridRequest more_samples = row("genz-gaussian");
+  more_samples.samples = 1001;
+  ids.insert(single_id(more_samples, budget));
+  GridRequest more_replicates = row("genz-gaussian");
+  more_replicates.replicates = 9;
+  ids.insert(single_id(more_replicates, budget));
+  EXPECT_EQ(ids.size(), 7u);
+}
+
+TEST(PlanId, HashDependsOnEveryComponent) {
+  const std::map<std::string, std::string> params = {{"M", "4"}};
+  const std::uint64_t base = run_id_hash("a", "b", params, 100, 8);
+  EXPECT_EQ(run_id_hash("a", "b", params, 100, 8), base);
+  EXPECT_NE(run_id_hash("c", "b", params, 100, 8), base);
+  EXPECT_NE(run_id_hash("a", "c", params, 100, 8), base);
+  EXPECT_NE(run_id_hash("a", "b", {{"M", "5"}}, 100, 8), base);
+  EXPECT_NE(run_id_hash("a", "b", {{"K", "4"}}, 100, 8), base);
+  EXPECT_NE(run_id_hash("a", "b", {}, 100, 8), base);
+  EXPECT_NE(run_id_hash("a", "b", params, 101, 8), base);
+  EXPECT_NE(run_id_hash("a", "b", params, 100, 9), base);
+  // Field boundaries matter: ("ab", "c") is not ("a", "bc").
+  EXPECT_NE(run_id_hash("ab", "c", {}, 100, 8), run_id_hash("a", "bc", {}, 100, 8));
+  EXPECT_NE(run_id_hash("a", "b", {{"M", "14"}}, 100, 8),
+            run_id_hash("a", "b", {{"M1", "4"}}, 100, 8));
+}
+
+TEST(PlanId, DoesNotDependOnRowOrder) {
+  const GridRequest a = row("genz-gaussian", {{"sharpness", {"2"}}});
+  const GridRequest b = row("genz-oscillatory", {{"center", {"0.1"}}});
+  const std::vector<RunPlan> ab = plan_runs({a, b}, {});
+  const std::vector<RunPlan> ba = plan_runs({b, a}, {});
+  ASSERT_EQ(ab.size(), 2u);
+  ASSERT_EQ(ba.size(), 2u);
+  EXPECT_EQ(ab[0].id, ba[1].id);
+  EXPECT_EQ(ab[1].id, ba[0].id);
+  EXPECT_NE(ab[0].id, ab[1].id);
+}
+
+TEST(PlanId, DoesNotDependOnTheOrderOfGridLists) {
+  const std::vector<RunPlan> forward = plan_runs(
+      {grid({"plain"}, {"genz-gaussian", "genz-oscillatory"}, {{"sharpness", {"1", "2"}}})}, {});
+  const std::vector<RunPlan> backward = plan_runs(
+      {grid({"plain"}, {"genz-oscillatory", "genz-gaussian"}, {{"sharpness", {"2", "1"}}})}, {});
+  std::set<std::string> forward_ids, backward_ids;
+  for (const RunPlan& p : forward) forward_ids.insert(p.id);
+  for (const RunPlan& p : backward) backward_ids.insert(p.id);
+  EXPECT_EQ(forward_ids.size(), 4u);
+  EXPECT_EQ(forward_ids, backward_ids);
+}
+
+TEST(PlanId, ExplicitDefaultsGiveTheSameIdAsImpliedOnes) {
+  const std::string implied = single_id(row("genz-gaussian"));
+  EXPECT_EQ(single_id(row("genz-gaussian", {{"sharpness", {"4"}}})), implied);
+  EXPECT_EQ(single_id(row("genz-gaussian", {{"sharpness", {"4.0"}}})), implied);
+  EXPECT_EQ(single_id(row("genz-gaussian", {{"center", {"0.5"}},
+                                            {"light_dims", {"1"}},
+                                            {"camera_dims", {"1"}},
+                                            {"sharpness", {"4"}}})),
+            implied);
+  EXPECT_NE(single_id(row("genz-gaussian", {{"sharpness", {"4.5"}}})), implied);
+}
+
+TEST(PlanId, ExplicitBudgetEqualToTheDefaultGivesTheSameId) {
+  BudgetDefaults budget;
+  budget.samples = 2000;
+  budget.replicates = 6;
+  const std::string implied = single_id(row("genz-gaussian"), budget);
+  GridRequest explicit_row = row("genz-gaussian");
+  explicit_row.samples = 2000;
+  explicit_row.replicates = 6;
+  EXPECT_EQ(single_id(explicit_row, budget), implied);
+}
+
+TEST(PlanId, DoesNotDependOnWhereOrExpect) {
+  GridRequest a = row("genz-gaussian", {}, "a.json: /runs/0");
+  GridRequest b = row("genz-gaussian", {}, "b.json: /grid/3");
+  b.expect = "biased";
+  EXPECT_EQ(single_id(a), single_id(b));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Budgets
+
+TEST(PlanBudget, RowValuesOverrideDefaultsAndForcedValuesOverrideRows) {
+  GridRequest with_budget = row("genz-gaussian");
+  with_budget.samples = 500;
+  with_budget.replicates = 4;
+  BudgetDefaults budget;
+  budget.samples = 1000;
+  budget.replicates = 8;
+
+  const std::vector<RunPlan> plain_rows = plan_runs({row("genz-gaussian"), with_budget}, budget);
+  ASSERT_EQ(plain_rows.size(), 2u);
+  EXPECT_EQ(plain_rows[0].samples, 1000u);
+  EXPECT_EQ(plain_rows[0].replicates, 8u);
+  EXPECT_EQ(plain_rows[1].samples, 500u);
+  EXPECT_EQ(plain_rows[1].replicates, 4u);
+
+  budget.forced_samples = 77;
+  budget.forced_replicates = 3;
+  const std::vector<RunPlan> forced = plan_runs({with_budget}, budget);
+  ASSERT_EQ(forced.size(), 1u);
+  EXPECT_EQ(forced[0].samples, 77u);
+  EXPECT_EQ(forced[0].replicates, 3u);
+  GridRequest expected_row = row("genz-gaussian");
+  expected_row.samples = 77;
+  expected_row.replicates = 3;
+  EXPECT_EQ(forced[0].id, single_id(expected_row));
+}
+
+TEST(PlanBudget, DefaultsAreTheInterfaceDefaults) {
+  const std::vector<RunPlan> plans = plan_runs({row("genz-gaussian")}, {});
+  ASSERT_EQ(plans.size(), 1u);
+  EXPECT_EQ(plans[0].samples, 100000u);
+  EXPECT_EQ(plans[0].replicates, 32u);
+}
+
+TEST(PlanBudget, ZeroSamplesAreRejected) {
+  GridRequest zero = row("genz-gaussian");
+  zero.samples = 0;
+  EXPECT_TRUE(contains(plan_error({zero}), "samples = 0")) << plan_error({zero});
+  BudgetDefaults budget;
+  budget.samples = 0;
+  EXPECT_TRUE(contains(plan_error({row("genz-gaussian")}, budget), "samples = 0"));
+  BudgetDefaults forced;
+  forced.forced_samples = 0;
+  EXPECT_TRUE(contains(plan_error({row("genz-gaussian")}, forced), "samples = 0"));
+}
+
+TEST(PlanBudget, SamplesAboveTheCounterLimitAreRejected) {
+  GridRequest huge = row("genz-gaussian");
+  huge.samples = kMaxSamples + 1;
+  EXPECT_TRUE(contains(plan_error({huge}), "out of range"));
+}
+
+TEST(PlanBudget, FewerThanTwoReplicatesAreRejected) {
+  for (std::uint32_t replicates : {0u, 1u}) {
+    GridRequest r = row("genz-gaussian", {}, "where");
+    r.replicates = replicates;
+    const std::string message = plan_error({r});
+    EXPECT_TRUE(contains(message, "where")) << message;
+    EXPECT_TRUE(contains(message, "replicates = " + std::to_string(replicates))) << message;
+  }
+  BudgetDefaults forced;
+  forced.forced_replicates = 1;
+  EXPECT_TRUE(contains(plan_error({row("genz-gaussian")}, forced), "replicates = 1"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Names, values and expectations
+
+TEST(PlanNames, UnknownEstimatorListsTheValidOnes) {
+  const std::string message = plan_error({grid({"plian"}, {"genz-gaussian"})});
+  EXPECT_TRUE(contains(message, "unknown estimator 'plian'")) << message;
+  EXPECT_TRUE(contains(message, "valid estimators: plain")) << message;
+}
+
+TEST(PlanNames, UnknownIntegrandListsTheValidOnes) {
+  const std::string message = plan_error({row("genz-gausian")});
+  EXPECT_TRUE(contains(message, "unknown integrand 'genz-gausian'")) << message;
+  EXPECT_TRUE(contains(message, "valid integrands: genz-gaussian, genz-oscillatory, expr"))
+      << message;
+}
+
+TEST(PlanValues, BadParameterValueNamesWhereAndParameter) {
+  const std::string message =
+      plan_error({row("genz-gaussian", {{"sharpness", {"1", "abc"}}}, "suite.json: /grid/2")});
+  EXPECT_TRUE(contains(message, "suite.json: /grid/2")) << message;
+  EXPECT_TRUE(contains(message, "integrand 'genz-gaussian'")) << message;
+  EXPECT_TRUE(contains(message, "'sharpness' = 'abc'")) << message;
+}
+
+TEST(PlanValues, MissingRequiredParameterIsRejected) {
+  const std::string message = plan_error({row("expr")});
+  EXPECT_TRUE(contains(message, "'f'")) << message;
+  EXPECT_TRUE(contains(message, "required")) << message;
+}
+
+TEST(PlanValues, BadExpressionIsFoundWhilePlanning) {
+  const std::string message = plan_error({row("expr", {{"f", {"x0*"}}}, "cli")});
+  EXPECT_TRUE(contains(message, "cli: plain × expr")) << message;
+  EXPECT_TRUE(contains(message, "parameter 'f'")) << message;
+}
+
+TEST(PlanExpect, ValidExpectationsPassThrough) {
+  for (const std::string& expect : kExpectations) {
+    GridRequest r = row("genz-gaussian");
+    r.expect = expect;
+    const std::vector<RunPlan> plans = plan_runs({r}, {});
+    ASSERT_EQ(plans.size(), 1u);
+    EXPECT_EQ(plans[0].expect, std::optional<std::string>(expect));
+  }
+  const std::vector<RunPlan> unset = plan_runs({row("genz-gaussian")}, {});
+  EXPECT_FALSE(unset.at(0).expect.has_value());
+}
+
+TEST(PlanExpect, BadExpectationIsRejectedWithTheValidList) {
+  GridRequest r = row("genz-gaussian", {}, "suite.json: /runs/4");
+  r.expect = "consistant";
+  const std::string message = plan_error({r});
+  EXPECT_TRUE(contains(message, "suite.json: /runs/4")) << message;
+  EXPECT_TRUE(contains(message, "'consistant'")) << message;
+  EXPECT_TRUE(contains(message, "consistent, biased, inconclusive")) << message;
+}
+
+}  // namespace
+}  // namespace pcbench

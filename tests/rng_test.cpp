@@ -24,15 +24,15 @@ TEST(RngPhilox, MatchesRandom123KnownAnswers) {
 }
 
 TEST(RngStream, SameIdGivesSameNumbers) {
-  const StreamId id{.key = 42, .replicate = 3, .purpose = StreamPurpose::kCameraPath,
-                    .sample = 17, .path = 5};
+  const StreamId id{
+      .key = 42, .replicate = 3, .purpose = StreamPurpose::kCameraPath, .sample = 17, .path = 5};
   RandomStream a(id), b(id);
   for (int i = 0; i < 100; ++i) EXPECT_EQ(a.uniform(), b.uniform());
 }
 
 TEST(RngStream, EveryFieldOfTheIdChangesTheNumbers) {
-  const StreamId base{.key = 42, .replicate = 3, .purpose = StreamPurpose::kLightPool,
-                      .sample = 17, .path = 5};
+  const StreamId base{
+      .key = 42, .replicate = 3, .purpose = StreamPurpose::kLightPool, .sample = 17, .path = 5};
   std::vector<StreamId> ids(6, base);
   ids[1].key = 43;
   ids[2].replicate = 4;

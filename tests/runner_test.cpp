@@ -58,10 +58,16 @@ TEST(RunnerDeterminism, SameNumbersForAnyThreadCount) {
 }
 
 TEST(RunnerDeterminism, NumbersDoNotDependOnSuiteOrder) {
-  GridRequest a{.estimators = {"plain"}, .integrands = {"genz-gaussian"}, .samples = 5000,
-                .replicates = 3, .where = "a"};
-  GridRequest b{.estimators = {"plain"}, .integrands = {"genz-oscillatory"}, .samples = 5000,
-                .replicates = 3, .where = "b"};
+  GridRequest a{.estimators = {"plain"},
+                .integrands = {"genz-gaussian"},
+                .samples = 5000,
+                .replicates = 3,
+                .where = "a"};
+  GridRequest b{.estimators = {"plain"},
+                .integrands = {"genz-oscillatory"},
+                .samples = 5000,
+                .replicates = 3,
+                .where = "b"};
   const auto forward = plan_runs({a, b}, {});
   const auto backward = plan_runs({b, a}, {});
   ASSERT_EQ(forward[0].id, backward[1].id);
@@ -166,8 +172,8 @@ TEST(PlainVariance, MatchesTheExactVarianceOfTheGaussian) {
   const boost::math::chi_squared chi2(kReplicates - 1);
   const double p = 2 * std::min(boost::math::cdf(chi2, statistic),
                                 boost::math::cdf(boost::math::complement(chi2, statistic)));
-  EXPECT_GT(p, 1e-4) << "across-replicate variance " << spread.variance() * kSamples
-                     << " vs exact " << sigma2;
+  EXPECT_GT(p, 1e-4) << "across-replicate variance " << spread.variance() * kSamples << " vs exact "
+                     << sigma2;
 
   // The within-replicate variance estimates the same σ² (samples are independent here).
   Tally within;

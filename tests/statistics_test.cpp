@@ -1,1 +1,326 @@
+#include "harness/statistics.h"
+
 #include <gtest/gtest.h>
+
+#include <boost/math/distributions/binomial.hpp>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "harness/rng.h"
+
+namespace pcbench {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::vector<ReplicateResult> replicates_of(const std::vector<double>& estimates,
+                                           double cpu_seconds = 0.5) {
+  std::vector<ReplicateResult> out;
+  for (double e : estimates) {
+    ReplicateResult r;
+    r.estimate = e;
+    r.cpu_seconds = cpu_seconds;
+    r.seconds = cpu_seconds;
+    out.push_back(r);
+  }
+  return out;
+}
+
+Reference exact(double value) {
+  return {.value = value, .kind = ReferenceKind::kExact};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Student's t
+
+TEST(StatisticsStudentT, KnownTwoSidedPValues) {
+  EXPECT_NEAR(student_t_p_value(2.0, 10), 0.0733880, 5e-7);
+  EXPECT_NEAR(student_t_p_value(-2.0, 10), 0.0733880, 5e-7);
+  EXPECT_EQ(student_t_p_value(0.0, 10), 1.0);
+  // Tabulated two-sided 5% critical values.
+  EXPECT_NEAR(student_t_p_value(12.706204736, 1), 0.05, 1e-9);
+  EXPECT_NEAR(student_t_p_value(2.228138852, 10), 0.05, 1e-9);
+  EXPECT_NEAR(student_t_p_value(3.169272673, 10), 0.01, 1e-9);
+  // Close to the normal for many degrees of freedom.
+  EXPECT_NEAR(student_t_p_value(1.959963985, 1e7), 0.05, 1e-6);
+}
+
+TEST(StatisticsStudentT, InfiniteAndNanStatistics) {
+  EXPECT_EQ(student_t_p_value(kInf, 5), 0.0);
+  EXPECT_EQ(student_t_p_value(-kInf, 5), 0.0);
+  EXPECT_TRUE(std::isnan(student_t_p_value(std::nan(""), 5)));
+}
+
+// ---------------------------------------------------------------------------------------------
+// aggregate
+
+TEST(StatisticsAggregate, FiguresOfAHandMadeRun) {
+  // Estimates 1, 2, 3, 4 against the exact value 2; N = 100 samples and 0.5 CPU s per replicate.
+  const Aggregates a = aggregate(replicates_of({1, 2, 3, 4}), exact(2.0), 100);
+  const double replicate_variance = 5.0 / 3.0;  // sum of squared deviations 5, R - 1 = 3
+  EXPECT_DOUBLE_EQ(a.mean, 2.5);
+  EXPECT_DOUBLE_EQ(a.stderr_of_mean, std::sqrt(replicate_variance / 4.0));
+  EXPECT_DOUBLE_EQ(a.bias, 0.5);
+  EXPECT_DOUBLE_EQ(a.rmse, std::sqrt((1.0 + 0.0 + 1.0 + 4.0) / 4.0));
+  EXPECT_DOUBLE_EQ(a.rel_mse, 1.5 / 4.0);
+  EXPECT_DOUBLE_EQ(a.seconds_per_sample, 2.0 / 400.0);
+  // 1 / (N Var_rep × cpu_seconds / (R N)).
+  EXPECT_DOUBLE_EQ(a.efficiency, 1.0 / (100.0 * replicate_variance * (2.0 / (4.0 * 100.0))));
+  EXPECT_NEAR(a.efficiency, 1.2, 1e-12);
+}
+
+TEST(StatisticsAggregate, UnequalCpuTimesAreSummed) {
+  std::vector<ReplicateResult> reps = replicates_of({0.0, 2.0});
+  reps[0].cpu_seconds = 1.0;
+  reps[1].cpu_seconds = 3.0;
+  const Aggregates a = aggregate(reps, exact(1.0), 10);
+  EXPECT_DOUBLE_EQ(a.seconds_per_sample, 4.0 / 20.0);
+  // Var_rep = 2; per-sample variance 20; efficiency 1 / (20 × 0.2).
+  EXPECT_DOUBLE_EQ(a.efficiency, 0.25);
+  EXPECT_DOUBLE_EQ(a.bias, 0.0);
+  EXPECT_DOUBLE_EQ(a.rmse, 1.0);
+}
+
+TEST(StatisticsAggregate, WithoutAReferenceBiasAndErrorsAreUndefined) {
+  const Aggregates a = aggregate(replicates_of({1, 2, 3, 4}), Reference{}, 100);
+  EXPECT_DOUBLE_EQ(a.mean, 2.5);
+  EXPECT_DOUBLE_EQ(a.stderr_of_mean, std::sqrt(5.0 / 12.0));
+  EXPECT_TRUE(std::isnan(a.bias));
+  EXPECT_TRUE(std::isnan(a.rmse));
+  EXPECT_TRUE(std::isnan(a.rel_mse));
+  EXPECT_TRUE(std::isfinite(a.efficiency));
+}
+
+TEST(StatisticsAggregate, ZeroReferenceLeavesRelativeMseUndefined) {
+  const Aggregates a = aggregate(replicates_of({-1, 1}), exact(0.0), 10);
+  EXPECT_DOUBLE_EQ(a.bias, 0.0);
+  EXPECT_DOUBLE_EQ(a.rmse, 1.0);
+  EXPECT_TRUE(std::isnan(a.rel_mse));
+}
+
+// ---------------------------------------------------------------------------------------------
+// test_against_reference
+
+TEST(StatisticsTest, NoReferenceIsInconclusiveAndNotTested) {
+  const Verdict v = test_against_reference(replicates_of({1, 2, 3}), Reference{}, "consistent");
+  EXPECT_FALSE(v.tested);
+  EXPECT_EQ(v.test, "none");
+  EXPECT_EQ(v.result, "inconclusive");
+  EXPECT_FALSE(v.reason.empty());
+  EXPECT_EQ(v.expect, "consistent");
+  EXPECT_TRUE(std::isnan(v.p_value));
+}
+
+TEST(StatisticsTest, OneSampleTOnAHandMadeRun) {
+  const Verdict v = test_against_reference(replicates_of({1, 2, 3, 4}), exact(2.0), "consistent");
+  EXPECT_TRUE(v.tested);
+  EXPECT_EQ(v.test, "student_t");
+  EXPECT_EQ(v.dof, 3.0);
+  EXPECT_DOUBLE_EQ(v.test_stderr, std::sqrt(5.0 / 12.0));
+  EXPECT_DOUBLE_EQ(v.statistic, 0.5 / std::sqrt(5.0 / 12.0));  // 0.7746
+  // Two-sided p of t = 0.774597 with 3 dof.
+  EXPECT_NEAR(v.p_value, 0.4950, 5e-4);
+  EXPECT_DOUBLE_EQ(v.p_value, student_t_p_value(v.statistic, 3.0));
+  EXPECT_EQ(v.reference_value, 2.0);
+}
+
+TEST(StatisticsTest, ZeroSpreadWithoutBiasHasPOne) {
+  const Verdict v = test_against_reference(replicates_of({2, 2, 2}), exact(2.0), "consistent");
+  EXPECT_TRUE(v.tested);
+  EXPECT_EQ(v.statistic, 0.0);
+  EXPECT_EQ(v.p_value, 1.0);
+}
+
+TEST(StatisticsTest, ZeroSpreadWithBiasHasPZero) {
+  const Verdict above = test_against_reference(replicates_of({2, 2, 2}), exact(1.0), "");
+  EXPECT_EQ(above.p_value, 0.0);
+  EXPECT_EQ(above.statistic, kInf);
+  const Verdict below = test_against_reference(replicates_of({2, 2, 2}), exact(3.0), "");
+  EXPECT_EQ(below.p_value, 0.0);
+  EXPECT_EQ(below.statistic, -kInf);
+}
+
+TEST(StatisticsTest, WelchWhenTheReferenceHasAnUncertainty) {
+  const Reference reference{
+      .value = 2.0, .kind = ReferenceKind::kNumerical, .uncertainty = 0.3, .dof = 20};
+  const Verdict v = test_against_reference(replicates_of({1, 2, 3, 4}), reference, "consistent");
+  const double se2 = 5.0 / 12.0, u2 = 0.09;
+  EXPECT_EQ(v.test, "welch");
+  EXPECT_DOUBLE_EQ(v.test_stderr, std::sqrt(se2 + u2));
+  EXPECT_DOUBLE_EQ(v.statistic, 0.5 / std::sqrt(se2 + u2));
+  // Welch–Satterthwaite: (se² + u²)² / (se⁴ / (R - 1) + u⁴ / dof_ref).
+  EXPECT_DOUBLE_EQ(v.dof, (se2 + u2) * (se2 + u2) / (se2 * se2 / 3.0 + u2 * u2 / 20.0));
+  EXPECT_DOUBLE_EQ(v.p_value, student_t_p_value(v.statistic, v.dof));
+  EXPECT_GT(v.dof, 3.0);  // the reference's own dof add to the replicates'
+}
+
+TEST(StatisticsTest, WelchWithAnInfiniteDofReference) {
+  const Reference reference{.value = 2.0, .kind = ReferenceKind::kRendered, .uncertainty = 0.3};
+  const Verdict v = test_against_reference(replicates_of({1, 2, 3, 4}), reference, "");
+  const double se2 = 5.0 / 12.0, u2 = 0.09;
+  EXPECT_EQ(v.test, "welch");
+  EXPECT_DOUBLE_EQ(v.dof, (se2 + u2) * (se2 + u2) / (se2 * se2 / 3.0));
+  EXPECT_TRUE(std::isfinite(v.p_value));
+}
+
+TEST(StatisticsTest, WelchWithZeroSpreadTestsAgainstTheReferenceUncertaintyAlone) {
+  const Reference reference{.value = 2.6, .kind = ReferenceKind::kRendered, .uncertainty = 0.3};
+  Verdict v = test_against_reference(replicates_of({2, 2, 2}), reference, "");
+  EXPECT_EQ(v.test, "welch");
+  EXPECT_DOUBLE_EQ(v.statistic, -2.0);
+  EXPECT_EQ(v.dof, kInf);
+  EXPECT_NEAR(v.p_value, 0.0455003, 1e-6);  // two-sided normal tail beyond 2
+  std::vector<Verdict*> family = {&v};
+  decide_family(family, 0.05);
+  EXPECT_EQ(v.result, "biased");
+  EXPECT_NEAR(v.min_detectable_bias, 2.80158 * 0.3, 1e-4);
+}
+
+// ---------------------------------------------------------------------------------------------
+// decide_family
+
+Verdict tested_with_p(double p, double test_stderr = 1.0, double dof = 30.0) {
+  Verdict v;
+  v.tested = true;
+  v.p_value = p;
+  v.test_stderr = test_stderr;
+  v.dof = dof;
+  v.reference_value = 2.0;
+  return v;
+}
+
+TEST(StatisticsHolm, AdjustsAKnownExample) {
+  Verdict a = tested_with_p(0.01), b = tested_with_p(0.04), c = tested_with_p(0.03);
+  std::vector<Verdict*> family = {&a, &b, &c};
+  decide_family(family, 0.05);
+  // Sorted: 0.01 × 3 = 0.03; 0.03 × 2 = 0.06; 0.04 × 1 = 0.04, raised to the running max 0.06.
+  EXPECT_NEAR(a.p_adjusted, 0.03, 1e-15);
+  EXPECT_NEAR(b.p_adjusted, 0.06, 1e-15);
+  EXPECT_NEAR(c.p_adjusted, 0.06, 1e-15);
+  EXPECT_EQ(a.result, "biased");
+  EXPECT_EQ(b.result, "consistent");
+  EXPECT_EQ(c.result, "consistent");
+  for (const Verdict* v : family) EXPECT_EQ(v->alpha, 0.05);
+  // The raw p-values are kept.
+  EXPECT_EQ(a.p_value, 0.01);
+  EXPECT_EQ(b.p_value, 0.04);
+}
+
+TEST(StatisticsHolm, AdjustedPValuesAreCappedAtOne) {
+  Verdict a = tested_with_p(0.6), b = tested_with_p(0.9);
+  std::vector<Verdict*> family = {&a, &b};
+  decide_family(family, 0.05);
+  EXPECT_EQ(a.p_adjusted, 1.0);
+  EXPECT_EQ(b.p_adjusted, 1.0);
+}
+
+TEST(StatisticsHolm, BiasedExactlyWhenAdjustedPIsAtMostAlpha) {
+  // Exactly representable: 0.25 × 2 = 0.5 and 0.5 × 1 = 0.5.
+  Verdict a = tested_with_p(0.25), b = tested_with_p(0.5);
+  std::vector<Verdict*> family = {&a, &b};
+  decide_family(family, 0.5);
+  EXPECT_EQ(a.p_adjusted, 0.5);
+  EXPECT_EQ(a.result, "biased");  // p_adjusted == alpha rejects
+  EXPECT_EQ(b.result, "biased");
+  decide_family(family, std::nextafter(0.5, 0.0));
+  EXPECT_EQ(a.result, "consistent");
+  EXPECT_EQ(b.result, "consistent");
+
+  std::vector<Verdict> many;
+  for (double p : {1e-6, 0.001, 0.004, 0.01, 0.02, 0.2, 0.5, 0.9}) many.push_back(tested_with_p(p));
+  std::vector<Verdict*> pointers;
+  for (Verdict& v : many) pointers.push_back(&v);
+  decide_family(pointers, 0.05);
+  for (const Verdict& v : many) {
+    EXPECT_GE(v.p_adjusted, v.p_value);
+    EXPECT_EQ(v.result, v.p_adjusted <= 0.05 ? "biased" : "consistent") << v.p_value;
+    EXPECT_FALSE(v.reason.empty());
+  }
+}
+
+TEST(StatisticsHolm, UntestedAndNullVerdictsDoNotCountInTheFamily) {
+  Verdict a = tested_with_p(0.01), b = tested_with_p(0.04), c = tested_with_p(0.03);
+  Verdict untested = test_against_reference(replicates_of({1, 2}), Reference{}, "consistent");
+  std::vector<Verdict*> family = {&a, nullptr, &untested, &b, &c};
+  decide_family(family, 0.05);
+  EXPECT_NEAR(a.p_adjusted, 0.03, 1e-15);  // m = 3, not 4 or 5
+  EXPECT_NEAR(b.p_adjusted, 0.06, 1e-15);
+  EXPECT_EQ(untested.result, "inconclusive");
+  EXPECT_EQ(untested.alpha, 0.05);
+}
+
+TEST(StatisticsHolm, MinimumDetectableBiasScalesWithTheStandardError) {
+  Verdict small = tested_with_p(0.5, 1.0, 1e6), large = tested_with_p(0.5, 2.0, 1e6);
+  std::vector<Verdict*> one = {&small};
+  decide_family(one, 0.05);
+  // With m = 1 and many dof: (z_{0.975} + z_{0.8}) × stderr = (1.95996 + 0.84162) × stderr.
+  EXPECT_NEAR(small.min_detectable_bias, 2.80158, 1e-4);
+  EXPECT_NEAR(small.min_detectable_rel_bias, 2.80158 / 2.0, 1e-4);
+
+  std::vector<Verdict*> two = {&small, &large};
+  decide_family(two, 0.05);
+  EXPECT_GT(small.min_detectable_bias, 0.0);
+  EXPECT_DOUBLE_EQ(large.min_detectable_bias, 2.0 * small.min_detectable_bias);
+  // The Bonferroni share alpha / 2 makes the detectable bias larger than with m = 1.
+  EXPECT_GT(small.min_detectable_bias, 2.80158 + 1e-3);
+}
+
+TEST(StatisticsHolm, MinimumDetectableRelativeBiasIsUndefinedForAZeroReference) {
+  Verdict v = tested_with_p(0.5);
+  v.reference_value = 0.0;
+  std::vector<Verdict*> family = {&v};
+  decide_family(family, 0.01);
+  EXPECT_GT(v.min_detectable_bias, 0.0);
+  EXPECT_TRUE(std::isnan(v.min_detectable_rel_bias));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Calibration of the one-sample t test.
+//
+// 2000 simulated runs of 8 replicates each, the replicate estimates normal with the reference as
+// mean. At alpha = 0.05 the number of false alarms is Binomial(2000, 0.05) for a correctly sized
+// test. The acceptance band holds that count with probability >= 1 - 1e-4 (false-alarm budget
+// 1e-4, split evenly between the tails). A test that used the normal instead of Student's t with
+// 7 dof rejects about 9.1% of runs (182 expected) and falls far outside the band. Fixed keys: the
+// outcome is deterministic.
+
+double standard_normal(RandomStream& rng) {
+  // Box–Muller; 1 - u is in (0, 1], so the logarithm is finite.
+  const double u1 = 1.0 - rng.uniform();
+  const double u2 = rng.uniform();
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
+}
+
+TEST(StatisticsCalibration, OneSampleTFalseAlarmRateIsAlpha) {
+  constexpr int kRuns = 2000;
+  constexpr int kReplicates = 8;
+  constexpr double kAlpha = 0.05;
+  constexpr double kBudget = 1e-4;
+  const double reference = 3.5, sigma = 0.2;
+
+  int false_alarms = 0;
+  for (int run = 0; run < kRuns; ++run) {
+    RandomStream rng({.key = 0x5eed2024,
+                      .replicate = static_cast<std::uint32_t>(run),
+                      .purpose = StreamPurpose::kEstimatorAux});
+    std::vector<double> estimates(kReplicates);
+    for (double& e : estimates) e = reference + sigma * standard_normal(rng);
+    const Verdict v =
+        test_against_reference(replicates_of(estimates), exact(reference), "consistent");
+    ASSERT_EQ(v.test, "student_t");
+    if (v.p_value <= kAlpha) ++false_alarms;
+  }
+  RecordProperty("false_alarms", false_alarms);
+  const boost::math::binomial distribution(kRuns, kAlpha);
+  const double low = boost::math::quantile(distribution, kBudget / 2.0);
+  const double high = boost::math::quantile(boost::math::complement(distribution, kBudget / 2.0));
+  EXPECT_GE(false_alarms, low) << "band [" << low << ", " << high << "]";
+  EXPECT_LE(false_alarms, high) << "band [" << low << ", " << high << "]";
+  // The band is informative: it excludes the normal-approximation rate of about 9.1%.
+  EXPECT_LT(high, 0.08 * kRuns);
+}
+
+}  // namespace
+}  // namespace pcbench

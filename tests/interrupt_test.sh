@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Ctrl-C during a suite: pcbench stops between chunks, writes the report of what finished (the
+# rest marked not_run) and exits 130.
+set -uo pipefail
+binary=$1
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+cd "$scratch"
+
+# Two runs of ~10 s each on this machine; the signal comes 1 s in.
+"$binary" run -e plain -i genz-gaussian,genz-oscillatory -n 50000000 -r 32 --out out --quiet &
+pid=$!
+sleep 1
+kill -INT "$pid"
+wait "$pid"
+status=$?
+
+failed=0
+check() {  # check DESCRIPTION COMMAND...
+  if "${@:2}"; then echo "ok      $1"; else echo "FAILED  $1"; failed=$((failed + 1)); fi
+}
+check "exit status 130 (got $status)" test "$status" -eq 130
+check "the report was written" test -f out/report.json
+check "no temporary file left behind" bash -c '! ls out/*.tmp 2>/dev/null | grep -q .'
+check "unfinished runs are marked not_run" /usr/bin/python3 -c "
+import json, sys
+runs = json.load(open('out/report.json'))['runs']
+sys.exit(0 if len(runs) == 2 and all(r['status'] == 'not_run' for r in runs[1:]) else 1)"
+echo "$((4 - failed)) passed, $failed failed"
+[ "$failed" -eq 0 ]
