@@ -6,32 +6,22 @@
 #include <algorithm>
 
 #include "harness/errors.h"
+#include "integrands/point_integrand.h"
 
 namespace pcbench {
 
 std::vector<ParamSpec> ExpressionModel::params() {
-  return {
+  std::vector<ParamSpec> specs = {
       {.name = "f",
        .type = ParamType::kText,
        .description = "muparser expression in x0.. (light side) and y0.. (camera side)",
-       .required = true},
-      {.name = "light_dims",
-       .type = ParamType::kInt,
-       .default_value = "1",
-       .description = "dimensions of x (the light side)",
-       .min = 1,
-       .max = 32},
-      {.name = "camera_dims",
-       .type = ParamType::kInt,
-       .default_value = "1",
-       .description = "dimensions of y (the camera side)",
-       .min = 1,
-       .max = 32},
-      {.name = "exact",
-       .type = ParamType::kReal,
-       .description = "exact value of the integral, if known",
-       .optional = true},
-  };
+       .required = true}};
+  for (ParamSpec& spec : point_dimension_params()) specs.push_back(std::move(spec));
+  specs.push_back({.name = "exact",
+                   .type = ParamType::kReal,
+                   .description = "exact value of the integral, if known",
+                   .optional = true});
+  return specs;
 }
 
 ExpressionModel::ExpressionModel(const ResolvedParams& params)

@@ -1,25 +1,43 @@
 // Genz's test families (A. Genz, "Testing multidimensional integration routines", 1984) with the
 // dimensions split between the light side x in [0,1]^a and the camera side y in [0,1]^b.
-// z = (x, y) is the concatenated point, d = a + b.
+// z = (x, y) is the concatenated point, d = a + b. Sampling is uniform: p(x) = p(y) = 1.
+//
+// Parameters of every family: light_dims (a), camera_dims (b), sharpness (Genz's difficulty s,
+// the same in every dimension), center (Genz's shift c).
 #pragma once
-
-#include "harness/params.h"
-#include "integrands/integrand.h"
 
 #include <cmath>
 #include <vector>
 
+#include "harness/params.h"
+#include "integrands/integrand.h"
+
 namespace pcbench {
 
-// genz-gaussian: f(z) = exp(-Σ_i s² (z_i - c)²).
-// I = Π_i (√π / (2 s)) (erf(s (1 - c)) + erf(s c)), a product of one-dimensional closed forms.
-class GenzGaussian {
+// What all Genz families share: dimensions, s and c.
+class GenzShape {
  public:
-  static std::vector<ParamSpec> params();
-  explicit GenzGaussian(const ResolvedParams& params);
+  explicit GenzShape(const ResolvedParams& params);
+  static std::vector<ParamSpec> params(const char* sharpness_default, const char* center_default);
 
   int light_dims() const { return light_dims_; }
   int camera_dims() const { return camera_dims_; }
+
+ protected:
+  int dims() const { return light_dims_ + camera_dims_; }
+
+  int light_dims_;
+  int camera_dims_;
+  double sharpness_;
+  double center_;
+};
+
+// genz-gaussian: f(z) = exp(-Σ_i s² (z_i - c)²).
+// I = Π_i (√π / (2 s)) (erf(s (1 - c)) + erf(s c)), a product of one-dimensional closed forms.
+class GenzGaussian : public GenzShape {
+ public:
+  static std::vector<ParamSpec> params() { return GenzShape::params("4", "0.5"); }
+  using GenzShape::GenzShape;
   Reference reference() const;
 
   double f(const double* x, const double* y) const {
@@ -28,23 +46,14 @@ class GenzGaussian {
     for (int i = 0; i < camera_dims_; ++i) exponent += (y[i] - center_) * (y[i] - center_);
     return std::exp(-sharpness_ * sharpness_ * exponent);
   }
-
- private:
-  int light_dims_;
-  int camera_dims_;
-  double sharpness_;
-  double center_;
 };
 
 // genz-oscillatory: f(z) = cos(2π c + s Σ_i z_i).
 // I = Re[exp(i 2π c) ((exp(i s) - 1) / (i s))^d], from ∫_0^1 exp(i s t) dt = (exp(i s) - 1)/(i s).
-class GenzOscillatory {
+class GenzOscillatory : public GenzShape {
  public:
-  static std::vector<ParamSpec> params();
-  explicit GenzOscillatory(const ResolvedParams& params);
-
-  int light_dims() const { return light_dims_; }
-  int camera_dims() const { return camera_dims_; }
+  static std::vector<ParamSpec> params() { return GenzShape::params("3", "0.25"); }
+  using GenzShape::GenzShape;
   Reference reference() const;
 
   double f(const double* x, const double* y) const {
@@ -56,10 +65,6 @@ class GenzOscillatory {
 
  private:
   static constexpr double kTwoPi = 6.283185307179586476925286766559;
-  int light_dims_;
-  int camera_dims_;
-  double sharpness_;
-  double center_;
 };
 
 }  // namespace pcbench

@@ -19,9 +19,13 @@
 #include <memory>
 #include <vector>
 
+#include "harness/params.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {
+
+// The parameters every point integrand has: light_dims (a) and camera_dims (b).
+std::vector<ParamSpec> point_dimension_params();
 
 template <typename Model>
 class PointWorkspace final : public PathWorkspace {
