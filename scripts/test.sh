@@ -16,6 +16,7 @@ step() {  # step NAME COMMAND...: runs and times one step
 
 jobs=$(nproc)
 step "install Debian packages" bash scripts/install-deps.sh
+step "format check" bash scripts/check-format.sh
 step "configure (release)" cmake --preset release
 step "build (release)" cmake --build --preset release
 step "tests: ci (release)" ctest --preset ci -j "$jobs"
