@@ -52,6 +52,7 @@ void print_registry(std::ostream& out, bool as_json) {
       integrands.push_back(Json{{"name", i.name},
                                 {"params", params_json(i.params)},
                                 {"exact", i.exact},
+                                {"tags", i.tags},
                                 {"description", i.description}});
     }
     out << Json{{"estimators", estimators}, {"integrands", integrands}, {"scenes", Json::array()}}
@@ -66,7 +67,9 @@ void print_registry(std::ostream& out, bool as_json) {
   }
   out << "integrands:\n";
   for (const IntegrandEntry& i : integrand_registry()) {
-    out << fmt::format("  {:<20} {}{}\n", i.name, i.exact ? "[exact] " : "", i.description);
+    std::string tags = i.exact ? "[exact] " : "";
+    for (const std::string& tag : i.tags) tags += "[" + tag + "] ";
+    out << fmt::format("  {:<20} {}{}\n", i.name, tags, i.description);
     print_params(out, i.params);
   }
   out << "scenes:\n  (none yet)\n";

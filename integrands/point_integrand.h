@@ -10,9 +10,12 @@
 // and optionally, for non-uniform sampling densities,
 //   double sample_light(RandomStream& rng, double* x) const;   // fills x, returns p(x)
 //   double sample_camera(RandomStream& rng, double* y) const;  // fills y, returns p(y)
-// Without them a side is sampled uniformly (p = 1). Every workspace gets its own copy of the
-// model, so a model with scratch state (a parser with bound variables) is thread-safe as long as
-// its copy constructor gives the copy its own state.
+// and a cheap resampling importance (e.g. f without its visibility term), which must be > 0
+// wherever f != 0:
+//   double approximate_importance(const double* x, const double* y) const;
+// Without them a side is sampled uniformly (p = 1) and the importance is |f|. Every workspace gets
+// its own copy of the model, so a model with scratch state (a parser with bound variables) is
+// thread-safe as long as its copy constructor gives the copy its own state.
 #pragma once
 
 #include <cstddef>
@@ -70,6 +73,19 @@ class PointWorkspace final : public PathWorkspace {
     const double* camera = sides_[1].coords.data();
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       values[i] = model_.f(light + pairs[i].light * dims_[0], camera + pairs[i].camera * dims_[1]);
+    }
+  }
+
+  void importance(std::span<const PathPair> pairs, std::span<double> values) override {
+    if constexpr (requires(const double* p) { model_.approximate_importance(p, p); }) {
+      const double* light = sides_[0].coords.data();
+      const double* camera = sides_[1].coords.data();
+      for (std::size_t i = 0; i < pairs.size(); ++i) {
+        values[i] = model_.approximate_importance(light + pairs[i].light * dims_[0],
+                                                  camera + pairs[i].camera * dims_[1]);
+      }
+    } else {
+      PathWorkspace::importance(pairs, values);
     }
   }
 

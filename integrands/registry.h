@@ -15,6 +15,9 @@ struct IntegrandEntry {
   std::string name;
   std::string description;
   bool exact = false;  // has a closed-form reference for every parameter value
+  // Properties a suite or the verifier selects on: "genz", "transport", "nonuniform-density",
+  // "stress", "infinite-variance", ...
+  std::vector<std::string> tags = {};
   std::vector<ParamSpec> params;
   std::function<std::unique_ptr<Integrand>(const ResolvedParams&)> make;
 };
