@@ -1,7 +1,7 @@
 // Microbenchmarks (Google Benchmark). Run: build/release/pcbench_bench
 #include <benchmark/benchmark.h>
 
-#include "estimators/plain.h"
+#include "estimators/registry.h"
 #include "harness/rng.h"
 #include "harness/tally.h"
 #include "integrands/genz.h"
@@ -48,7 +48,7 @@ void BM_PlainGenzGaussianBatch(benchmark::State& state) {
   params.set("sharpness", 4.0);
   params.set("center", 0.5);
   const PointIntegrand<GenzGaussian> integrand{GenzGaussian(params)};
-  const PlainEstimator estimator;
+  const auto estimator = find_estimator("plain").make({});
   auto workspace = integrand.make_workspace();
   EstimatorScratch scratch;
   Counters counters;
@@ -56,7 +56,7 @@ void BM_PlainGenzGaussianBatch(benchmark::State& state) {
   std::uint32_t first = 0;
   for (auto _ : state) {
     BatchContext ctx{.key = 7, .first_sample = first, .sample_count = 256, .counters = &counters};
-    estimator.estimate_batch(ctx, *workspace, scratch, estimates);
+    estimator->estimate_batch(ctx, *workspace, scratch, estimates);
     benchmark::DoNotOptimize(estimates.data());
     first += 256;
   }

@@ -13,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include "estimators/discrete_sampler.h"
 #include "harness/rng.h"
 #include "integrands/integrand.h"
 
@@ -36,18 +37,26 @@ struct Counters {
 // The resampling step of one camera sample, as made: P over the pool and the pool indices drawn.
 struct ResamplingRecord {
   std::uint32_t sample = 0;
-  std::vector<double> pmf;           // P(j | y, X) for j < M
-  std::vector<std::uint32_t> draws;  // xi_1 .. xi_K
+  std::vector<double> pmf = {};           // P(j | y, X) for j < M
+  std::vector<std::uint32_t> draws = {};  // xi_1 .. xi_K
 };
+
+// Camera samples per estimator call. A shared pool (`pool=shared`) serves the camera samples of
+// one batch, so this is part of what a shared-pool run computes, not just a tuning knob.
+inline constexpr std::uint32_t kBatchSize = 256;
 
 struct BatchContext {
   std::uint64_t key = 0;  // run_key(seed, run id)
   std::uint32_t replicate = 0;
-  std::uint32_t first_sample = 0;
-  std::uint32_t sample_count = 0;
+  std::uint32_t first_sample = 0;                // a multiple of kBatchSize
+  std::uint32_t sample_count = 0;                // <= kBatchSize
   Counters* counters = nullptr;                  // required
   std::vector<ResamplingRecord>* log = nullptr;  // filled when non-null (verification)
+  // When not empty: the same estimator applied to |f|, one per sample (an unbiased estimate of
+  // ∫∫ |f|, the scale against which a bias is judged small or not).
+  std::span<double> magnitudes = {};
 
+  std::uint32_t batch_index() const { return first_sample / kBatchSize; }
   StreamId stream(StreamPurpose purpose) const {
     return {.key = key, .replicate = replicate, .purpose = purpose};
   }
@@ -57,6 +66,11 @@ struct BatchContext {
 struct EstimatorScratch {
   std::vector<PathPair> pairs;
   std::vector<double> values;
+  std::vector<PathPair> candidate_pairs;  // every (pool path, camera path) pair of a batch
+  std::vector<double> importances;
+  std::vector<double> pmf;        // P(j | y, X) of one camera sample
+  std::vector<double> draw_pmfs;  // P of each chosen connection
+  DiscreteSampler sampler;        // rebuilt per camera sample, memory kept
 };
 
 class Estimator {
@@ -66,6 +80,10 @@ class Estimator {
   // Writes estimates[i] for camera sample ctx.first_sample + i, i < ctx.sample_count.
   virtual void estimate_batch(const BatchContext& ctx, PathWorkspace& paths,
                               EstimatorScratch& scratch, std::span<double> estimates) const = 0;
+
+  // Whether the per-sample estimates of one replicate are independent (no shared pool): only
+  // then is a within-replicate variance meaningful (INTERFACE.md, "replicate").
+  virtual bool samples_independent() const { return true; }
 };
 
 }  // namespace pcbench

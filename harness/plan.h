@@ -40,8 +40,8 @@ struct GridRequest {
 struct BudgetDefaults {
   std::uint64_t samples = kDefaultSamples;
   std::uint32_t replicates = kDefaultReplicates;
-  std::optional<std::uint64_t> forced_samples;
-  std::optional<std::uint32_t> forced_replicates;
+  std::optional<std::uint64_t> forced_samples = {};
+  std::optional<std::uint32_t> forced_replicates = {};
 };
 
 struct RunPlan {

@@ -45,11 +45,13 @@ struct ThreadState {
   std::unique_ptr<PathWorkspace> paths;
   EstimatorScratch scratch;
   std::vector<double> estimates;
+  std::vector<double> magnitudes;
   Counters counters;
 };
 
 struct ChunkResult {
   Tally tally;
+  CompensatedSum magnitude;  // Σ of per-sample estimates of ∫∫ |f|
   double seconds = 0.0;
   double cpu_seconds = 0.0;
   bool done = false;
@@ -68,6 +70,7 @@ std::uint32_t chunk_size(std::uint64_t samples) {
 RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   RunResult result;
   result.reference = plan.made_integrand->reference();
+  result.independent_samples = plan.made_estimator->samples_independent();
   const auto run_start = std::chrono::steady_clock::now();
 
   const std::uint64_t samples = plan.samples;
@@ -88,6 +91,7 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
     ThreadState& state = threads.local();
     if (!state.paths) state.paths = integrand.make_workspace();
     state.estimates.resize(kBatchSize);
+    state.magnitudes.resize(kBatchSize);
 
     const auto replicate = static_cast<std::uint32_t>(task / chunks_per_replicate);
     const std::uint64_t first = (task % chunks_per_replicate) * chunk;
@@ -100,9 +104,13 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
                        .sample_count = static_cast<std::uint32_t>(
                            std::min<std::uint64_t>(kBatchSize, end - batch)),
                        .counters = &state.counters};
+      ctx.magnitudes = std::span<double>(state.magnitudes.data(), ctx.sample_count);
       const std::span<double> estimates(state.estimates.data(), ctx.sample_count);
       estimator.estimate_batch(ctx, *state.paths, state.scratch, estimates);
-      for (std::uint32_t i = 0; i < ctx.sample_count; ++i) out.tally.add(estimates[i], batch + i);
+      for (std::uint32_t i = 0; i < ctx.sample_count; ++i) {
+        out.tally.add(estimates[i], batch + i);
+        out.magnitude.add(ctx.magnitudes[i]);
+      }
     }
     out.cpu_seconds = thread_cpu_seconds() - cpu_start;
     out.seconds = wall_seconds_since(start);
@@ -135,14 +143,17 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   result.replicates.resize(plan.replicates);
   for (std::uint32_t r = 0; r < plan.replicates; ++r) {
     Tally tally;
+    CompensatedSum magnitude;
     ReplicateResult& rep = result.replicates[r];
     for (std::uint64_t c = 0; c < chunks_per_replicate; ++c) {
       const ChunkResult& part = chunks[r * chunks_per_replicate + c];
       tally.merge(part.tally);
+      magnitude.add(part.magnitude);
       rep.seconds += part.seconds;
       rep.cpu_seconds += part.cpu_seconds;
     }
     rep.estimate = tally.mean();
+    rep.mean_abs = magnitude.value() / static_cast<double>(samples);
     rep.variance = tally.variance();
     rep.n = tally.count();
     rep.nonfinite = tally.nonfinite_count();

@@ -22,6 +22,7 @@ const char* to_string(RunStatus status);
 struct ReplicateResult {
   double estimate = 0.0;  // mean of the N per-sample estimates (non-finite ones included)
   double variance = 0.0;  // sample variance of the per-sample estimates
+  double mean_abs = 0.0;  // the estimator's estimate of ∫∫ |f|
   std::uint64_t n = 0;
   std::uint64_t nonfinite = 0;
   std::optional<std::uint64_t> first_nonfinite_sample;
@@ -44,6 +45,9 @@ struct RunResult {
   Counters counters;
   double wall_seconds = 0.0;
   std::optional<NonfiniteLocation> first_nonfinite;
+  // False where the samples of a replicate share a pool: the within-replicate variance is then
+  // not an estimate of anything useful and is not reported.
+  bool independent_samples = true;
 };
 
 struct RunnerOptions {
@@ -51,8 +55,7 @@ struct RunnerOptions {
   const std::atomic<bool>* interrupted = nullptr;  // polled between chunks
 };
 
-// Camera samples per estimator call, and the chunk (unit of parallel work) for N samples.
-inline constexpr std::uint32_t kBatchSize = 256;
+// The chunk (unit of parallel work, a multiple of kBatchSize) for N samples.
 std::uint32_t chunk_size(std::uint64_t samples);
 
 RunResult execute_run(const RunPlan& plan, const RunnerOptions& options);

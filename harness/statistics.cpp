@@ -20,6 +20,12 @@ struct Spread {
   double variance = kNaN;  // of one replicate's estimate, n - 1 in the denominator
 };
 
+double mean_abs_of(const std::vector<ReplicateResult>& replicates) {
+  CompensatedSum sum;
+  for (const ReplicateResult& rep : replicates) sum.add(rep.mean_abs);
+  return sum.value() / static_cast<double>(replicates.size());
+}
+
 Spread spread(const std::vector<ReplicateResult>& replicates) {
   Tally tally;
   for (std::size_t r = 0; r < replicates.size(); ++r) tally.add(replicates[r].estimate, r);
@@ -67,6 +73,7 @@ Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Refer
   // Per-sample variance from the across-replicate spread: Var[one sample] = N Var[replicate].
   const double per_sample_variance = s.variance * static_cast<double>(samples_per_replicate);
   out.efficiency = 1.0 / (per_sample_variance * out.seconds_per_sample);
+  out.mean_abs = mean_abs_of(replicates);
   return out;
 }
 
@@ -100,6 +107,7 @@ Verdict test_against_reference(const std::vector<ReplicateResult>& replicates,
   }
   v.statistic = bias / v.test_stderr;
   v.reference_value = reference.value;
+  v.mean_abs = mean_abs_of(replicates);
   if (se2 == 0.0 && reference.uncertainty == 0.0) {
     // Every replicate gave the same number: the test is exact.
     v.statistic = bias == 0.0 ? 0.0 : std::copysign(std::numeric_limits<double>::infinity(), bias);
@@ -141,6 +149,7 @@ void decide_family(std::vector<Verdict*>& verdicts, double alpha) {
     const double share = alpha / static_cast<double>(m);
     const double multiplier = t_quantile(1.0 - share / 2.0, v.dof) + t_quantile(kPower, v.dof);
     v.min_detectable_bias = multiplier * v.test_stderr;
+    v.min_detectable_bias_vs_mean_abs = v.min_detectable_bias / v.mean_abs;
     v.min_detectable_rel_bias =
         v.reference_value != 0.0 ? v.min_detectable_bias / std::fabs(v.reference_value) : kNaN;
   }

@@ -27,6 +27,7 @@ struct Aggregates {
   double rel_mse = 0.0;             // mse / reference²
   double seconds_per_sample = 0.0;  // thread CPU seconds per camera sample
   double efficiency = 0.0;          // 1 / (per-sample variance × seconds per sample)
+  double mean_abs = 0.0;            // estimate of ∫∫ |f|, the scale of "a small bias"
 };
 
 Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Reference& reference,
@@ -42,11 +43,13 @@ struct Verdict {
   std::string result;            // consistent | biased | inconclusive
   std::string reason;
   std::string expect;
-  double min_detectable_bias = 0.0;      // at 80% power with the Bonferroni share alpha / m
-  double min_detectable_rel_bias = 0.0;  // NaN where the reference is 0 or absent
-  bool tested = false;                   // counts in the family
-  double test_stderr = 0.0;              // the test's denominator
+  double min_detectable_bias = 0.0;              // at 80% power with the Bonferroni share alpha / m
+  double min_detectable_rel_bias = 0.0;          // NaN where the reference is 0 or absent
+  double min_detectable_bias_vs_mean_abs = 0.0;  // relative to ∫∫ |f|: comparable across rows
+  bool tested = false;                           // counts in the family
+  double test_stderr = 0.0;                      // the test's denominator
   double reference_value = 0.0;
+  double mean_abs = 0.0;
 };
 
 // The raw test of one run against its reference (no multiplicity correction yet).

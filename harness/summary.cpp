@@ -11,7 +11,7 @@
 namespace pcbench {
 namespace {
 
-constexpr std::size_t kColumns = 8;
+constexpr std::size_t kColumns = 9;
 using Row = std::array<std::string, kColumns>;
 
 // Parameters whose value differs from their declared default, as "k=v k=v".
@@ -56,6 +56,11 @@ Row row_of(const RunRecord& record) {
   const std::string bias_in_se = has_stats && std::isfinite(a.bias) && a.stderr_of_mean > 0.0
                                      ? fmt::format("{:+.2f}", a.bias / a.stderr_of_mean)
                                      : "-";
+  // The smallest bias this row could see (80% power), as a share of ∫∫ |f|.
+  const std::string detectable =
+      record.verdict && std::isfinite(record.verdict->min_detectable_bias_vs_mean_abs)
+          ? fmt::format("{:.2g}%", 100.0 * record.verdict->min_detectable_bias_vs_mean_abs)
+          : "-";
   std::string verdict = to_string(result.status);
   if (record.verdict) {
     verdict = record.verdict->result;
@@ -69,6 +74,7 @@ Row row_of(const RunRecord& record) {
           estimate,
           reference,
           bias_in_se,
+          detectable,
           fmt::format("{:.2f}", result.wall_seconds),
           verdict};
 }
@@ -77,7 +83,7 @@ Row row_of(const RunRecord& record) {
 
 void print_summary(const std::vector<RunRecord>& records, std::ostream& out) {
   std::vector<Row> rows = {{"estimator", "integrand", "params", "mean ± stderr", "reference",
-                            "bias/se", "seconds", "verdict"}};
+                            "bias/se", "mdb/|f|", "seconds", "verdict"}};
   for (const RunRecord& record : records) rows.push_back(row_of(record));
   // Widths in code points: "±" is two bytes in UTF-8 but one column on screen.
   const auto columns = [](const std::string& text) {

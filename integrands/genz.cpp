@@ -11,7 +11,7 @@ GenzShape::GenzShape(const ResolvedParams& params)
     : light_dims_(static_cast<int>(params.integer("light_dims"))),
       camera_dims_(static_cast<int>(params.integer("camera_dims"))),
       sharpness_(params.real("sharpness")),
-      center_(params.real("center")) {}
+      center_(params.has("center") ? params.real("center") : 0.0) {}
 
 std::vector<ParamSpec> GenzShape::params(const char* sharpness_default,
                                          const char* center_default) {
@@ -22,6 +22,7 @@ std::vector<ParamSpec> GenzShape::params(const char* sharpness_default,
                    .description = "Genz difficulty s, the same in every dimension",
                    .min = 1e-6,
                    .max = 1e6});
+  if (center_default == nullptr) return specs;
   specs.push_back({.name = "center",
                    .type = ParamType::kReal,
                    .default_value = center_default,

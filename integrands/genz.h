@@ -3,7 +3,10 @@
 // z = (x, y) is the concatenated point, d = a + b. Sampling is uniform: p(x) = p(y) = 1.
 //
 // Parameters of every family: light_dims (a), camera_dims (b), sharpness (Genz's difficulty s,
-// the same in every dimension), center (Genz's shift c).
+// the same in every dimension), center (Genz's shift c; the corner peak has none).
+//
+// The other four families, one file each: genz_product_peak.h, genz_corner_peak.h,
+// genz_continuous.h, genz_discontinuous.h.
 #pragma once
 
 #include <cmath>
@@ -18,7 +21,9 @@ namespace pcbench {
 class GenzShape {
  public:
   explicit GenzShape(const ResolvedParams& params);
-  static std::vector<ParamSpec> params(const char* sharpness_default, const char* center_default);
+  // center_default == nullptr: the family has no shift c (center_ is then 0).
+  static std::vector<ParamSpec> params(const char* sharpness_default,
+                                       const char* center_default = nullptr);
 
   int light_dims() const { return light_dims_; }
   int camera_dims() const { return camera_dims_; }

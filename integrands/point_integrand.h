@@ -10,6 +10,9 @@
 // and optionally, for non-uniform sampling densities,
 //   double sample_light(RandomStream& rng, double* x) const;   // fills x, returns p(x)
 //   double sample_camera(RandomStream& rng, double* y) const;  // fills y, returns p(y)
+// with, for each, the density it samples at any point (the pair makes chi-square tests mechanical;
+// the harness itself does not call it):
+//   double light_pdf(const double* x) const;  double camera_pdf(const double* y) const;
 // and a cheap resampling importance (e.g. f without its visibility term), which must be > 0
 // wherever f != 0:
 //   double approximate_importance(const double* x, const double* y) const;

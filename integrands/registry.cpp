@@ -3,9 +3,21 @@
 #include <fmt/format.h>
 
 #include "harness/errors.h"
+#include "integrands/blocker.h"
+#include "integrands/door.h"
+#include "integrands/door_2d.h"
 #include "integrands/expression.h"
+#include "integrands/form_factor.h"
 #include "integrands/genz.h"
+#include "integrands/genz_continuous.h"
+#include "integrands/genz_corner_peak.h"
+#include "integrands/genz_discontinuous.h"
+#include "integrands/genz_product_peak.h"
+#include "integrands/linear_emitter.h"
+#include "integrands/narrow_peak.h"
 #include "integrands/point_integrand.h"
+#include "integrands/singular.h"
+#include "integrands/sparse_support.h"
 
 namespace pcbench {
 namespace {
@@ -34,6 +46,35 @@ const std::vector<IntegrandEntry>& integrand_registry() {
       point_entry<GenzOscillatory>("genz-oscillatory",
                                    "Genz oscillatory cos(2π c + s Σ z_i) over z = (x, y)", true,
                                    {"genz"}),
+      point_entry<GenzProductPeak>("genz-product-peak",
+                                   "Genz product peak Π (s^-2 + (z_i - c)²)^-1", true, {"genz"}),
+      point_entry<GenzCornerPeak>("genz-corner-peak", "Genz corner peak (1 + s Σ z_i)^-(d+1)", true,
+                                  {"genz"}),
+      point_entry<GenzContinuous>("genz-continuous",
+                                  "Genz continuous exp(-s Σ |z_i - c|); Laplace densities", true,
+                                  {"genz", "nonuniform-density"}),
+      point_entry<GenzDiscontinuous>("genz-discontinuous",
+                                     "Genz discontinuous exp(s Σ z_i) if x0, y0 < c; exponential "
+                                     "densities",
+                                     true, {"genz", "nonuniform-density"}),
+      point_entry<FormFactor>("form-factor", "h²/(π r⁴) between parallel unit squares", true,
+                              {"transport"}),
+      point_entry<LinearEmitter>("linear-emitter",
+                                 "2 x0 h²/(π r⁴), light side sampled with p(x) = 2 x0", true,
+                                 {"transport", "nonuniform-density"}),
+      point_entry<Blocker>("blocker", "flatland kernel h²/(2 r³), zero through a strip", true,
+                           {"transport"}),
+      point_entry<Door>("door", "flatland kernel h²/(2 r³) through a narrow gap", true,
+                        {"transport"}),
+      point_entry<Door2d>("door-2d", "h²/(π r⁴) through a rectangular opening (quadrature)", false,
+                          {"transport"}),
+      point_entry<NarrowPeak>("narrow-peak", "Gaussian ridge of width w in y0 - x0", true,
+                              {"stress"}),
+      point_entry<SparseSupport>("sparse-support", "1 + x0 y0 on a square of small area", true,
+                                 {"stress"}),
+      point_entry<SingularFinite>("singular-finite", "|x0 - y0|^-α, α < 1/2", true, {"stress"}),
+      point_entry<SingularInfinite>("singular-infinite", "|x0 - y0|^-α, α >= 1/2", true,
+                                    {"stress", "infinite-variance"}),
       point_entry<ExpressionModel>(
           "expr", "muparser expression f(x0.., y0..) on the unit cube; reference from 'exact'",
           false),

@@ -74,20 +74,25 @@ Json verdict_json(const Verdict& v, NumberWriter& numbers) {
   const auto figure = [&](double value, const char* name) {
     return v.tested ? numbers.number(value, fmt::format("verdict/{}", name)) : Json(nullptr);
   };
-  return Json{{"test", v.test},
-              {"statistic", figure(v.statistic, "statistic")},
-              {"dof", figure(v.dof, "dof")},
-              {"p_value", figure(v.p_value, "p_value")},
-              {"p_adjusted", figure(v.p_adjusted, "p_adjusted")},
-              {"alpha", v.alpha},
-              {"result", v.result},
-              {"reason", v.reason},
-              {"expect", v.expect},
-              {"min_detectable_bias", figure(v.min_detectable_bias, "min_detectable_bias")},
-              {"min_detectable_rel_bias",
-               v.tested && v.reference_value != 0.0
-                   ? numbers.number(v.min_detectable_rel_bias, "verdict/min_detectable_rel_bias")
-                   : Json(nullptr)}};
+  return Json{
+      {"test", v.test},
+      {"statistic", figure(v.statistic, "statistic")},
+      {"dof", figure(v.dof, "dof")},
+      {"p_value", figure(v.p_value, "p_value")},
+      {"p_adjusted", figure(v.p_adjusted, "p_adjusted")},
+      {"alpha", v.alpha},
+      {"result", v.result},
+      {"reason", v.reason},
+      {"expect", v.expect},
+      {"min_detectable_bias", figure(v.min_detectable_bias, "min_detectable_bias")},
+      {"min_detectable_rel_bias",
+       v.tested && v.reference_value != 0.0
+           ? numbers.number(v.min_detectable_rel_bias, "verdict/min_detectable_rel_bias")
+           : Json(nullptr)},
+      {"min_detectable_bias_vs_mean_abs",
+       v.tested && v.mean_abs != 0.0 ? numbers.number(v.min_detectable_bias_vs_mean_abs,
+                                                      "verdict/min_detectable_bias_vs_mean_abs")
+                                     : Json(nullptr)}};
 }
 
 Json run_json(const RunRecord& record, std::uint64_t seed) {
@@ -103,13 +108,16 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
   for (std::size_t r = 0; r < result.replicates.size(); ++r) {
     const ReplicateResult& rep = result.replicates[r];
     const std::string at = fmt::format("replicates/{}/", r);
-    replicates.push_back(Json{{"estimate", numbers.number(rep.estimate, at + "estimate")},
-                              {"variance", numbers.number(rep.variance, at + "variance")},
-                              {"n", rep.n},
-                              {"nonfinite", rep.nonfinite},
-                              {"seconds", rep.seconds},
-                              {"cpu_seconds", rep.cpu_seconds},
-                              {"largest_abs", rep.largest}});
+    replicates.push_back(
+        Json{{"estimate", numbers.number(rep.estimate, at + "estimate")},
+             {"mean_abs", numbers.number(rep.mean_abs, at + "mean_abs")},
+             {"variance", result.independent_samples ? numbers.number(rep.variance, at + "variance")
+                                                     : Json(nullptr)},
+             {"n", rep.n},
+             {"nonfinite", rep.nonfinite},
+             {"seconds", rep.seconds},
+             {"cpu_seconds", rep.cpu_seconds},
+             {"largest_abs", rep.largest}});
   }
 
   Json aggregates = nullptr;
@@ -129,7 +137,8 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
                                       : Json(nullptr)},
                       {"seconds_per_sample",
                        numbers.number(a.seconds_per_sample, "aggregates/seconds_per_sample")},
-                      {"efficiency", numbers.number(a.efficiency, "aggregates/efficiency")}};
+                      {"efficiency", numbers.number(a.efficiency, "aggregates/efficiency")},
+                      {"mean_abs", numbers.number(a.mean_abs, "aggregates/mean_abs")}};
   }
 
   Json first_nonfinite = nullptr;

@@ -349,8 +349,8 @@ TEST(PlanNames, UnknownEstimatorListsTheValidOnes) {
 TEST(PlanNames, UnknownIntegrandListsTheValidOnes) {
   const std::string message = plan_error({row("genz-gausian")});
   EXPECT_TRUE(contains(message, "unknown integrand 'genz-gausian'")) << message;
-  EXPECT_TRUE(contains(message, "valid integrands: genz-gaussian, genz-oscillatory, expr"))
-      << message;
+  EXPECT_TRUE(contains(message, "valid integrands: genz-gaussian, genz-oscillatory,")) << message;
+  EXPECT_TRUE(contains(message, ", expr")) << message;
 }
 
 TEST(PlanValues, BadParameterValueNamesWhereAndParameter) {

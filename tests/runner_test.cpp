@@ -7,7 +7,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "estimators/plain.h"
 #include "harness/plan.h"
 #include "harness/statistics.h"
 #include "harness/tally.h"
@@ -55,6 +54,12 @@ TEST(RunnerDeterminism, SameNumbersForAnyThreadCount) {
   ASSERT_EQ(one.status, RunStatus::kOk);
   expect_same_numbers(one, two);
   expect_same_numbers(one, three);
+
+  // Probabilistic connections with a pool shared by each batch: draws, pools and the alias
+  // tables all depend on the sample index only.
+  const auto shared =
+      plan("pcbpt", "genz-oscillatory", {{"pool", {"shared"}}, {"M", {"64"}}}, 30001, 4);
+  expect_same_numbers(run_with_threads(shared[0], 1), run_with_threads(shared[0], 2));
 }
 
 TEST(RunnerDeterminism, NumbersDoNotDependOnSuiteOrder) {

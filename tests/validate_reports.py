@@ -134,7 +134,9 @@ def semantic_problems(report, exit_status=None):
         # Every null that can only mean "non-finite" is listed.
         must_be_listed = []
         for r, rep in enumerate(run["replicates"]):
-            for key in ("estimate", "variance"):
+            for key in ("estimate", "variance", "mean_abs"):
+                if key == "variance" and run["pool"] == "shared":
+                    continue  # samples sharing a pool have no within-replicate variance
                 if rep[key] is None:
                     must_be_listed.append("replicates/%d/%s" % (r, key))
         aggregates = run["aggregates"]

@@ -1,0 +1,63 @@
+#include "estimators/discrete_sampler.h"
+
+#include <algorithm>
+
+namespace pcbench {
+
+void DiscreteSampler::build(std::span<const double> pmf, DiscreteSamplerKind kind) {
+  kind_ = kind;
+  const auto m = static_cast<std::uint32_t>(pmf.size());
+  double total = 0.0;
+  for (double p : pmf) total += p;
+
+  if (kind == DiscreteSamplerKind::kCdf) {
+    cdf_.resize(m);
+    double running = 0.0;
+    last_positive_ = 0;
+    for (std::uint32_t i = 0; i < m; ++i) {
+      cdf_[i] = running += pmf[i];
+      if (pmf[i] > 0.0) last_positive_ = i;
+    }
+    return;
+  }
+
+  // Vose: scale to mean 1, then pair each under-full column with an over-full one.
+  threshold_.resize(m);
+  alias_.resize(m);
+  small_.clear();
+  large_.clear();
+  const double scale = static_cast<double>(m) / total;
+  for (std::uint32_t i = 0; i < m; ++i) {
+    threshold_[i] = pmf[i] * scale;
+    alias_[i] = i;
+    (threshold_[i] < 1.0 ? small_ : large_).push_back(i);
+  }
+  while (!small_.empty() && !large_.empty()) {
+    const std::uint32_t s = small_.back();
+    small_.pop_back();
+    const std::uint32_t l = large_.back();
+    alias_[s] = l;
+    threshold_[l] -= 1.0 - threshold_[s];
+    if (threshold_[l] < 1.0) {
+      large_.pop_back();
+      small_.push_back(l);
+    }
+  }
+  // What is left is full up to rounding: keep it always.
+  for (std::uint32_t i : small_) threshold_[i] = 1.0;
+  for (std::uint32_t i : large_) threshold_[i] = 1.0;
+}
+
+std::uint32_t DiscreteSampler::draw(RandomStream& rng) const {
+  if (kind_ == DiscreteSamplerKind::kCdf) {
+    const double u = rng.uniform() * cdf_.back();
+    // First entry whose running sum exceeds u: zero-probability entries are never chosen.
+    // (u can round up to the total; then the last entry that can be drawn is taken.)
+    const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+    return it == cdf_.end() ? last_positive_ : static_cast<std::uint32_t>(it - cdf_.begin());
+  }
+  const std::uint32_t column = rng.uniform_index(static_cast<std::uint32_t>(threshold_.size()));
+  return rng.uniform() < threshold_[column] ? column : alias_[column];
+}
+
+}  // namespace pcbench

@@ -1,0 +1,67 @@
+// The estimator family of the seed note: a pool X of M light paths, K connections chosen from
+// it, and the estimate of Eq. (2)
+//     <I> = 1/(M K) Σ_k f(x_ξk, y) / (p(x_ξk) p(y) P(ξk | y, X)).
+// One code path samples the pool, chooses connections and weights them; the estimators differ
+// only in how they choose (the registry names each configuration):
+//
+//   plain   M = K = 1, P = 1: one fresh light path per camera sample (plain BDPT).
+//   vc-all  every path of the pool once, P = 1/M (K = M systematic draws: E[count_j] = K P_j = 1,
+//           which is all the unbiasedness proof needs); estimate (1/M) Σ_j f / (p(x_j) p(y)).
+//   lvc     K uniform draws with replacement from the pool's light vertices, P = 1/N_v (an
+//           analytic light path is one vertex: N_v = M); the light-vertex-cache variant.
+//   pcbpt   K draws with replacement, P(j) = (1 - u) w_j / Σ w + u / M, w_j = w(x_j, y) the
+//           resampling importance and u = uniform_mix (Popov et al. 2015, Sec. 4). P > 0 wherever
+//           w > 0, and everywhere when u > 0.
+//
+// Parameters (those an estimator reads are listed in its registry entry):
+//   M            light paths in a pool (default 16)
+//   K            draws per camera sample (default 4)
+//   pool         fresh: a new pool per camera sample (the seed's setup); shared: one pool per
+//                batch of 256 camera samples, as a renderer shares one per iteration
+//   importance   approx: the integrand's cheap approximation (|f| when it has none); f: |f|
+//                itself; uniform: w = 1
+//   uniform_mix  u above (default 0.1)
+//   sampler      alias (Vose, O(1) per draw) or cdf (binary search)
+#pragma once
+
+#include <cstdint>
+
+#include "estimators/discrete_sampler.h"
+#include "estimators/estimator.h"
+
+namespace pcbench {
+
+enum class PoolMode { kFresh, kShared };
+enum class Selection { kAll, kUniform, kImportance };
+enum class ImportanceSource { kApproximate, kF, kUniform };
+
+struct ResamplingConfig {
+  std::uint32_t M = 1;
+  std::uint32_t K = 1;  // ignored by Selection::kAll (K = M)
+  PoolMode pool = PoolMode::kFresh;
+  Selection selection = Selection::kAll;
+  ImportanceSource importance = ImportanceSource::kApproximate;
+  double uniform_mix = 0.1;
+  DiscreteSamplerKind sampler = DiscreteSamplerKind::kAlias;
+};
+
+class ResamplingEstimator final : public Estimator {
+ public:
+  explicit ResamplingEstimator(const ResamplingConfig& config) : config_(config) {}
+
+  void estimate_batch(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& scratch,
+                      std::span<double> estimates) const override;
+  bool samples_independent() const override { return config_.pool == PoolMode::kFresh; }
+
+  const ResamplingConfig& config() const { return config_; }
+
+ private:
+  // Appends the chosen connections of camera sample i (pool starting at light path `start`) to
+  // scratch.pairs and their P to scratch.draw_pmfs.
+  void choose(const BatchContext& ctx, std::uint32_t i, std::uint32_t start,
+              EstimatorScratch& scratch) const;
+
+  ResamplingConfig config_;
+};
+
+}  // namespace pcbench

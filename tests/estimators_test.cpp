@@ -1,0 +1,234 @@
+#include "estimators/registry.h"
+
+#include <gtest/gtest.h>
+
+#include <boost/math/distributions/chi_squared.hpp>
+
+#include "estimators/resampling.h"
+#include "harness/plan.h"
+#include "harness/runner.h"
+#include "harness/statistics.h"
+#include "integrands/point_integrand.h"
+#include "integrands/registry.h"
+
+namespace pcbench {
+namespace {
+
+// f = x0 + 10 y0 with uniform sampling: plain's estimate must be f at the sampled points, and
+// the light and camera points must come from their own streams.
+struct LinearModel {
+  int light_dims() const { return 1; }
+  int camera_dims() const { return 1; }
+  Reference reference() const { return {.value = 5.5, .kind = ReferenceKind::kExact}; }
+  double f(const double* x, const double* y) const { return x[0] + 10.0 * y[0]; }
+};
+
+TEST(PlainEstimator, EstimateIsFOverThePdfsOfItsOwnStreams) {
+  const PointIntegrand<LinearModel> integrand{LinearModel{}};
+  auto workspace = integrand.make_workspace();
+  EstimatorScratch scratch;
+  Counters counters;
+  std::vector<ResamplingRecord> log;
+  std::vector<double> estimates(5);
+  const BatchContext ctx{.key = 99,
+                         .replicate = 2,
+                         .first_sample = 40,
+                         .sample_count = 5,
+                         .counters = &counters,
+                         .log = &log};
+  find_estimator("plain").make({})->estimate_batch(ctx, *workspace, scratch, estimates);
+
+  for (std::uint32_t i = 0; i < 5; ++i) {
+    const double x =
+        RandomStream(
+            {.key = 99, .replicate = 2, .purpose = StreamPurpose::kLightPool, .sample = 40 + i})
+            .uniform();
+    const double y =
+        RandomStream(
+            {.key = 99, .replicate = 2, .purpose = StreamPurpose::kCameraPath, .sample = 40 + i})
+            .uniform();
+    EXPECT_EQ(estimates[i], x + 10.0 * y);
+  }
+  EXPECT_EQ(counters.connections, 5u);
+  EXPECT_EQ(counters.light_paths, 5u);
+  // The resampling step, as made: a pool of one, drawn once with probability 1.
+  ASSERT_EQ(log.size(), 5u);
+  EXPECT_EQ(log[3].sample, 43u);
+  EXPECT_EQ(log[3].pmf, std::vector<double>{1.0});
+  EXPECT_EQ(log[3].draws, std::vector<std::uint32_t>{0});
+}
+
+}  // namespace
+}  // namespace pcbench
+
+namespace pcbench {
+namespace {
+
+// Runs one batch of `estimator` on `integrand` and returns its estimates and log.
+struct BatchOutput {
+  std::vector<double> estimates;
+  std::vector<ResamplingRecord> log;
+  Counters counters;
+};
+
+BatchOutput run_batch(const Estimator& estimator, const Integrand& integrand,
+                      std::uint32_t first_sample, std::uint32_t count) {
+  BatchOutput out;
+  auto workspace = integrand.make_workspace();
+  EstimatorScratch scratch;
+  out.estimates.resize(count);
+  const BatchContext ctx{.key = 1234,
+                         .replicate = 1,
+                         .first_sample = first_sample,
+                         .sample_count = count,
+                         .counters = &out.counters,
+                         .log = &out.log};
+  estimator.estimate_batch(ctx, *workspace, scratch, out.estimates);
+  return out;
+}
+
+std::unique_ptr<Estimator> make(const std::string& name, const ParamText& params) {
+  const EstimatorEntry& entry = find_estimator(name);
+  return entry.make(resolve_params(entry.params, params, name));
+}
+
+std::unique_ptr<Integrand> make_integrand(const std::string& name, const ParamText& params) {
+  const IntegrandEntry& entry = find_integrand(name);
+  return entry.make(resolve_params(entry.params, params, name));
+}
+
+// With P ∝ f exactly (importance=f, no uniform mixing) on a positive integrand, every draw has
+// f / P = Σ_j f_j: probabilistic connections then reproduce vertex connection to the whole pool
+// sample by sample, whatever the draws. A wrong weight or normalisation breaks the equality.
+TEST(ResamplingWeights, IdealImportanceReproducesVertexConnection) {
+  const auto integrand = make_integrand("genz-gaussian", {{"light_dims", "2"}});
+  for (const char* pool : {"fresh", "shared"}) {
+    for (const char* sampler : {"alias", "cdf"}) {
+      const auto pcbpt = make("pcbpt", {{"M", "8"},
+                                        {"K", "3"},
+                                        {"importance", "f"},
+                                        {"uniform_mix", "0"},
+                                        {"pool", pool},
+                                        {"sampler", sampler}});
+      const auto vc_all = make("vc-all", {{"M", "8"}, {"pool", pool}});
+      const BatchOutput a = run_batch(*pcbpt, *integrand, 512, 100);
+      const BatchOutput b = run_batch(*vc_all, *integrand, 512, 100);
+      for (std::size_t i = 0; i < a.estimates.size(); ++i) {
+        EXPECT_NEAR(a.estimates[i], b.estimates[i], 1e-12 * b.estimates[i])
+            << pool << " " << sampler << " sample " << i;
+      }
+    }
+  }
+}
+
+TEST(ResamplingLog, RecordsAProperPmfAndTheDraws) {
+  const auto integrand = make_integrand("genz-oscillatory", {});
+  const auto pcbpt = make("pcbpt", {{"M", "10"}, {"K", "5"}, {"uniform_mix", "0.2"}});
+  const BatchOutput out = run_batch(*pcbpt, *integrand, 0, 50);
+  ASSERT_EQ(out.log.size(), 50u);
+  for (const ResamplingRecord& record : out.log) {
+    ASSERT_EQ(record.pmf.size(), 10u);
+    double total = 0.0;
+    for (double p : record.pmf) {
+      EXPECT_GE(p, 0.2 / 10 * (1 - 1e-12));  // the uniform share keeps P > 0 everywhere
+      total += p;
+    }
+    EXPECT_NEAR(total, 1.0, 1e-12);
+    ASSERT_EQ(record.draws.size(), 5u);
+    for (std::uint32_t d : record.draws) EXPECT_LT(d, 10u);
+  }
+  EXPECT_EQ(out.counters.importance_evaluations, 500u);
+  EXPECT_EQ(out.counters.connections, 250u);
+  EXPECT_EQ(out.counters.light_paths, 500u);
+
+  const auto vc_all = make("vc-all", {{"M", "6"}});
+  const BatchOutput all = run_batch(*vc_all, *integrand, 0, 3);
+  EXPECT_EQ(all.log[2].draws, (std::vector<std::uint32_t>{0, 1, 2, 3, 4, 5}));
+}
+
+TEST(ResamplingPools, SharedPoolIsOnePoolPerBatch) {
+  const auto integrand = make_integrand("genz-gaussian", {});
+  const auto shared = make("lvc", {{"M", "32"}, {"K", "2"}, {"pool", "shared"}});
+  const BatchOutput out = run_batch(*shared, *integrand, 256, 200);
+  EXPECT_EQ(out.counters.light_paths, 32u);
+  EXPECT_FALSE(shared->samples_independent());
+  EXPECT_TRUE(make("lvc", {})->samples_independent());
+}
+
+// Draw frequencies of both samplers follow the PMF (chi-square, budget 1e-6 each, fixed seed),
+// including entries of probability zero, which must never be drawn.
+TEST(ResamplingSampler, DrawsFollowThePmf) {
+  const std::vector<double> pmf = {0.05, 0.0, 0.3, 0.15, 0.0, 0.25, 0.05, 0.2};
+  for (const DiscreteSamplerKind kind : {DiscreteSamplerKind::kAlias, DiscreteSamplerKind::kCdf}) {
+    DiscreteSampler sampler;
+    sampler.build(pmf, kind);
+    RandomStream rng({.key = 31});
+    constexpr int kDraws = 200000;
+    std::vector<double> counts(pmf.size(), 0.0);
+    for (int i = 0; i < kDraws; ++i) counts[sampler.draw(rng)] += 1.0;
+    EXPECT_EQ(counts[1], 0.0);
+    EXPECT_EQ(counts[4], 0.0);
+    double statistic = 0.0;
+    int cells = 0;
+    for (std::size_t j = 0; j < pmf.size(); ++j) {
+      if (pmf[j] == 0.0) continue;
+      const double expected = pmf[j] * kDraws;
+      statistic += (counts[j] - expected) * (counts[j] - expected) / expected;
+      ++cells;
+    }
+    const boost::math::chi_squared chi2(cells - 1);
+    EXPECT_GT(boost::math::cdf(boost::math::complement(chi2, statistic)), 1e-6);
+  }
+}
+
+}  // namespace
+}  // namespace pcbench
+
+namespace pcbench {
+namespace {
+
+// Every configuration of the family is unbiased on a signed and a positive integrand: one
+// Student t test per cell, Holm-corrected at family-wise 1e-3, fixed seed.
+TEST(ResamplingUnbiased, EveryConfigurationOnSignedAndPositiveIntegrands) {
+  std::vector<GridRequest> grids;
+  const std::map<std::string, std::vector<std::string>> integrand_params = {{"light_dims", {"2"}}};
+  grids.push_back({.estimators = {"plain"},
+                   .integrands = {"genz-gaussian", "genz-oscillatory"},
+                   .params = integrand_params,
+                   .where = "plain"});
+  grids.push_back(
+      {.estimators = {"vc-all", "lvc"},
+       .integrands = {"genz-gaussian", "genz-oscillatory"},
+       .params = {{"M", {"8"}}, {"K", {"3"}}, {"pool", {"fresh", "shared"}}, {"light_dims", {"2"}}},
+       .where = "vc"});
+  grids.push_back({.estimators = {"pcbpt"},
+                   .integrands = {"genz-gaussian", "genz-oscillatory"},
+                   .params = {{"M", {"8"}},
+                              {"K", {"3"}},
+                              {"pool", {"fresh", "shared"}},
+                              {"importance", {"approx", "f", "uniform"}},
+                              {"sampler", {"alias", "cdf"}},
+                              {"light_dims", {"2"}}},
+                   .where = "pcbpt"});
+  const BudgetDefaults budget{.samples = 10000, .replicates = 16};
+  const std::vector<RunPlan> plans = plan_runs(grids, budget);
+  ASSERT_EQ(plans.size(), 2u + 8u + 24u);
+  std::vector<Verdict> verdicts;
+  verdicts.reserve(plans.size());
+  for (const RunPlan& p : plans) {
+    const RunResult result = execute_run(p, {.seed = 5});
+    ASSERT_EQ(result.status, RunStatus::kOk);
+    verdicts.push_back(test_against_reference(result.replicates, result.reference, "consistent"));
+  }
+  std::vector<Verdict*> family;
+  for (Verdict& v : verdicts) family.push_back(&v);
+  decide_family(family, 1e-3);
+  for (std::size_t i = 0; i < plans.size(); ++i) {
+    EXPECT_EQ(verdicts[i].result, "consistent")
+        << plans[i].estimator->name << " on " << plans[i].integrand->name << " (" << plans[i].where
+        << "): " << verdicts[i].reason;
+  }
+}
+
+}  // namespace
+}  // namespace pcbench
