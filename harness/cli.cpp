@@ -32,24 +32,25 @@ struct RunArguments {
   bool quiet = false;
 };
 
-bool is_numeric_key(const std::string& key, const GridRequest& grid) {
-  const auto numeric_in = [&](const std::vector<ParamSpec>& specs) {
+// Numbers and choices never contain commas, so for them a comma separates grid values.
+bool takes_comma_lists(const std::string& key, const GridRequest& grid) {
+  const auto typed_in = [&](const std::vector<ParamSpec>& specs) {
     for (const ParamSpec& spec : specs) {
-      if (spec.name == key) return spec.type == ParamType::kInt || spec.type == ParamType::kReal;
+      if (spec.name == key) return spec.type != ParamType::kText;
     }
     return false;
   };
   for (const std::string& name : grid.estimators) {
-    if (numeric_in(find_estimator(name).params)) return true;
+    if (typed_in(find_estimator(name).params)) return true;
   }
   for (const std::string& name : grid.integrands) {
-    if (numeric_in(find_integrand(name).params)) return true;
+    if (typed_in(find_integrand(name).params)) return true;
   }
   return false;
 }
 
-// The one-run form as a grid: `--param M=1,4,16` gives three runs. Only numeric keys are split on
-// commas, so an expression such as f=min(x0,y0) stays whole.
+// The one-run form as a grid: `--param M=1,4,16` gives three runs. Only numeric and choice keys
+// are split on commas, so an expression such as f=min(x0,y0) stays whole.
 GridRequest grid_from_flags(const RunArguments& args) {
   GridRequest grid;
   grid.where = "command line";
@@ -70,7 +71,7 @@ GridRequest grid_from_flags(const RunArguments& args) {
       throw InputError(fmt::format("command line: --param '{}' is given twice", key));
     }
     std::vector<std::string>& values = grid.params[key];
-    if (!is_numeric_key(key, grid)) {
+    if (!takes_comma_lists(key, grid)) {
       values.push_back(value);
       continue;
     }
@@ -152,7 +153,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   run->add_option("--integrand,-i", run_args.integrands, "integrand(s); a comma list is a grid")
       ->delimiter(',');
   run->add_option("--param,-p", run_args.params,
-                  "key=value, repeatable; numeric values may be comma lists (a grid)");
+                  "key=value, repeatable; numeric and choice values may be comma lists (a grid)");
   run->add_option("--samples,-n", run_args.samples, "camera samples per replicate (default 100000)")
       ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
   run->add_option("--replicates,-r", run_args.replicates, "independent replicates (default 32)")

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <ctime>
@@ -42,10 +43,28 @@ void update_latest_link(const fs::path& folder) {
   fs::rename(temporary, link);
 }
 
+bool declared_infinite_variance(const RunPlan& plan) {
+  const std::vector<std::string>& tags = plan.integrand->tags;
+  return std::find(tags.begin(), tags.end(), "infinite-variance") != tags.end();
+}
+
 std::string default_expectation(const RunPlan& plan, const Reference& reference) {
   if (plan.expect) return *plan.expect;
   if (plan.estimator->biased) return "biased";
+  if (declared_infinite_variance(plan)) return "inconclusive";
   return reference.kind == ReferenceKind::kNone ? "inconclusive" : "consistent";
+}
+
+// Student's t assumes a finite variance; where the integrand declares an infinite one, a
+// verdict either way would claim a confidence the test does not have. (The verification work
+// adds a tail diagnostic that decides this from the samples themselves.)
+Verdict verdict_for(const RunPlan& plan, const RunResult& result) {
+  const std::string expect = default_expectation(plan, result.reference);
+  if (declared_infinite_variance(plan)) {
+    return untested_verdict(
+        "the integrand is declared infinite-variance: Student's t has no stated level", expect);
+  }
+  return test_against_reference(result.replicates, result.reference, expect);
 }
 
 }  // namespace
@@ -74,8 +93,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     if (record.result.status == RunStatus::kOk) {
       record.aggregates =
           aggregate(record.result.replicates, record.result.reference, plan.samples);
-      record.verdict = test_against_reference(record.result.replicates, record.result.reference,
-                                              default_expectation(plan, record.result.reference));
+      record.verdict = verdict_for(plan, record.result);
     } else if (record.result.status == RunStatus::kInvalid) {
       record.aggregates =
           aggregate(record.result.replicates, record.result.reference, plan.samples);

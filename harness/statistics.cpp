@@ -77,18 +77,24 @@ Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Refer
   return out;
 }
 
+Verdict untested_verdict(std::string reason, std::string expect) {
+  Verdict v;
+  v.test = "none";
+  v.statistic = v.dof = v.p_value = v.p_adjusted = kNaN;
+  v.min_detectable_bias = v.min_detectable_rel_bias = v.min_detectable_bias_vs_mean_abs = kNaN;
+  v.result = "inconclusive";
+  v.reason = std::move(reason);
+  v.expect = std::move(expect);
+  return v;
+}
+
 Verdict test_against_reference(const std::vector<ReplicateResult>& replicates,
                                const Reference& reference, std::string expect) {
+  if (reference.kind == ReferenceKind::kNone) {
+    return untested_verdict("no reference value to test against", std::move(expect));
+  }
   Verdict v;
   v.expect = std::move(expect);
-  if (reference.kind == ReferenceKind::kNone) {
-    v.test = "none";
-    v.statistic = v.dof = v.p_value = v.p_adjusted = kNaN;
-    v.min_detectable_bias = v.min_detectable_rel_bias = kNaN;
-    v.result = "inconclusive";
-    v.reason = "no reference value to test against";
-    return v;
-  }
   const double count = static_cast<double>(replicates.size());
   const Spread s = spread(replicates);
   const double se2 = s.variance / count;

@@ -52,6 +52,9 @@ struct Verdict {
   double mean_abs = 0.0;
 };
 
+// A verdict for a run that is not tested, and why (no reference; a declared infinite variance).
+Verdict untested_verdict(std::string reason, std::string expect);
+
 // The raw test of one run against its reference (no multiplicity correction yet).
 Verdict test_against_reference(const std::vector<ReplicateResult>& replicates,
                                const Reference& reference, std::string expect);

@@ -722,9 +722,10 @@ TEST(CatalogPlain, UnbiasedOnEveryFiniteVarianceMember) {
   expect_plain_unbiased_on_the_catalog(50000, 16, 1e-3, 2024);
 }
 
-// The same with 32 replicates × 4·10^6 samples: sees relative biases of ~0.1%. Label: full.
+// The same with 32 replicates × 10^6 samples (about 40 s): standard errors 6 times smaller.
+// Label: full.
 TEST(FullCatalogPlain, UnbiasedOnEveryFiniteVarianceMemberLongRun) {
-  expect_plain_unbiased_on_the_catalog(4000000, 32, 1e-3, 2025);
+  expect_plain_unbiased_on_the_catalog(1000000, 32, 1e-3, 2025);
 }
 
 // Hill's estimate of 1/(tail index) from each replicate's 16 largest |estimates|,
