@@ -1,6 +1,7 @@
 // Microbenchmarks (Google Benchmark). Run: build/release/pcbench_bench
 #include <benchmark/benchmark.h>
 
+#include "estimators/discrete_sampler.h"
 #include "estimators/registry.h"
 #include "harness/rng.h"
 #include "harness/tally.h"
@@ -63,6 +64,31 @@ void BM_PlainGenzGaussianBatch(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * 256);
 }
 BENCHMARK(BM_PlainGenzGaussianBatch);
+
+// Building P over a pool of M and drawing K from it, per camera sample: alias table against
+// inverse CDF. Arguments: M, K.
+template <DiscreteSamplerKind kKind>
+void BM_BuildAndDraw(benchmark::State& state) {
+  const auto m = static_cast<std::size_t>(state.range(0));
+  const auto k = static_cast<int>(state.range(1));
+  std::vector<double> pmf(m);
+  RandomStream init({.key = 3});
+  for (double& p : pmf) p = init.uniform();
+  DiscreteSampler sampler;
+  RandomStream rng({.key = 4});
+  for (auto _ : state) {
+    sampler.build(pmf, kKind);
+    for (int i = 0; i < k; ++i) benchmark::DoNotOptimize(sampler.draw(rng));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+void resampling_sizes(benchmark::internal::Benchmark* b) {
+  for (int m : {16, 256, 4096, 65536}) {
+    for (int k : {4, 64}) b->Args({m, k});
+  }
+}
+BENCHMARK(BM_BuildAndDraw<DiscreteSamplerKind::kAlias>)->Apply(resampling_sizes);
+BENCHMARK(BM_BuildAndDraw<DiscreteSamplerKind::kCdf>)->Apply(resampling_sizes);
 
 }  // namespace
 }  // namespace pcbench

@@ -4,8 +4,9 @@
 // Two ways, both O(M) to build: Vose's alias method (O(1) per draw; M. D. Vose, "A linear
 // algorithm for generating random numbers with a given distribution", IEEE TSE 1991) and the
 // inverse CDF by binary search (O(log M) per draw). The benchmarks measure which is faster for
-// which M and K. Either way the estimator weights a draw by the P it computed, not by what the
-// table implies, so rounding in the table cannot bias the estimate.
+// which M and K: the CDF's build is a single pass and wins unless K approaches M. Either way the
+// estimator weights a draw by the P it computed, not by what the table implies, so rounding in the
+// table cannot bias the estimate.
 #pragma once
 
 #include <cstdint>

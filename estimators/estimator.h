@@ -23,7 +23,9 @@ namespace pcbench {
 struct Counters {
   std::uint64_t camera_paths = 0;
   std::uint64_t light_paths = 0;
-  std::uint64_t connections = 0;  // evaluations of f
+  std::uint64_t connections = 0;  // connections that enter the estimates (K per camera sample)
+  // Evaluations of the resampling importance (with importance=f these are the only evaluations
+  // of f: the chosen connections reuse them).
   std::uint64_t importance_evaluations = 0;
 
   void add(const Counters& other) {
@@ -68,9 +70,10 @@ struct EstimatorScratch {
   std::vector<double> values;
   std::vector<PathPair> candidate_pairs;  // every (pool path, camera path) pair of a batch
   std::vector<double> importances;
-  std::vector<double> pmf;        // P(j | y, X) of one camera sample
-  std::vector<double> draw_pmfs;  // P of each chosen connection
-  DiscreteSampler sampler;        // rebuilt per camera sample, memory kept
+  std::vector<double> candidate_values;  // f of every candidate, when the importance is |f|
+  std::vector<double> pmf;               // P(j | y, X) of one camera sample
+  std::vector<double> draw_pmfs;         // P of each chosen connection
+  DiscreteSampler sampler;               // rebuilt per camera sample, memory kept
 };
 
 class Estimator {

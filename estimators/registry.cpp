@@ -89,9 +89,9 @@ const std::vector<EstimatorEntry>& estimator_registry() {
             .max = 1},
            {.name = "sampler",
             .type = ParamType::kChoice,
-            .default_value = "alias",
+            .default_value = "cdf",
             .description = "how K indices are drawn from P: alias table or inverse CDF",
-            .choices = {"alias", "cdf"}}},
+            .choices = {"cdf", "alias"}}},
           Selection::kImportance),
   };
   return table;

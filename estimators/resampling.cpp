@@ -80,8 +80,13 @@ void ResamplingEstimator::estimate_batch(const BatchContext& ctx, PathWorkspace&
         paths.importance(scratch.candidate_pairs, scratch.importances);
         break;
       case ImportanceSource::kF:
-        paths.connect(scratch.candidate_pairs, scratch.importances);
-        for (double& w : scratch.importances) w = std::fabs(w);
+        // f of every candidate is known now: keep it signed, so the chosen ones are not
+        // evaluated again below.
+        scratch.candidate_values.resize(scratch.candidate_pairs.size());
+        paths.connect(scratch.candidate_pairs, scratch.candidate_values);
+        for (std::size_t c = 0; c < scratch.importances.size(); ++c) {
+          scratch.importances[c] = std::fabs(scratch.candidate_values[c]);
+        }
         break;
       case ImportanceSource::kUniform:
         std::fill(scratch.importances.begin(), scratch.importances.end(), 1.0);
@@ -112,7 +117,15 @@ void ResamplingEstimator::estimate_batch(const BatchContext& ctx, PathWorkspace&
     }
   }
   scratch.values.resize(scratch.pairs.size());
-  paths.connect(scratch.pairs, scratch.values);
+  if (by_importance && config_.importance == ImportanceSource::kF) {
+    for (std::size_t d = 0; d < scratch.pairs.size(); ++d) {
+      const std::size_t i = scratch.pairs[d].camera;
+      const std::size_t j = scratch.pairs[d].light - pool_start(scratch.pairs[d].camera);
+      scratch.values[d] = scratch.candidate_values[i * m + j];
+    }
+  } else {
+    paths.connect(scratch.pairs, scratch.values);
+  }
 
   // Eq. (2): average of f / (p(x) p(y) P) over the K connections, divided by M.
   const std::span<const double> p_x = paths.pdfs(PathSide::kLight);
