@@ -14,13 +14,15 @@ namespace {
 constexpr std::size_t kColumns = 9;
 using Row = std::array<std::string, kColumns>;
 
-// Parameters whose value differs from their declared default, as "k=v k=v".
+// Parameters as "k=v k=v": the pool size and draws always (they tell the rows of a grid
+// apart), the others only where they differ from their declared default.
 std::string changed_params(const std::vector<ParamSpec>& specs, const ResolvedParams& params) {
   std::string out;
   for (const ParamSpec& spec : specs) {
     if (!params.has(spec.name)) continue;
     const std::string value = to_text(params.values().at(spec.name));
-    if (!spec.default_value.empty() &&
+    const bool always = spec.name == "M" || spec.name == "K";
+    if (!always && !spec.default_value.empty() &&
         value == to_text(parse_param(spec, spec.default_value, "default"))) {
       continue;
     }
@@ -102,6 +104,15 @@ void print_summary(const std::vector<RunRecord>& records, std::ostream& out) {
       if (c + 1 < kColumns) line += std::string(width[c] - columns(row[c]) + 2, ' ');
     }
     out << line << "\n";
+  }
+  // Rows that are not simply consistent say why.
+  for (const RunRecord& record : records) {
+    const Verdict* v = record.verdict ? &*record.verdict : nullptr;
+    const bool plain_pass = v != nullptr && v->result == "consistent" && v->expect == "consistent";
+    if (plain_pass) continue;
+    const std::string why = v != nullptr ? v->result + ": " + v->reason : record.result.error;
+    out << fmt::format("  {} × {} ({}): {}\n", record.plan->estimator->name,
+                       record.plan->integrand->name, record.plan->id, why);
   }
 }
 
