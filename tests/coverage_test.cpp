@@ -14,10 +14,10 @@
 namespace pcbench {
 namespace {
 
-RunPlan plan_one(const std::string& integrand,
+RunPlan plan_one(const std::string& estimator, const std::string& integrand,
                  std::map<std::string, std::vector<std::string>> params, std::uint64_t samples,
                  std::uint32_t replicates) {
-  GridRequest grid{.estimators = {"plain"},
+  GridRequest grid{.estimators = {estimator},
                    .integrands = {integrand},
                    .params = std::move(params),
                    .samples = samples,
@@ -26,33 +26,54 @@ RunPlan plan_one(const std::string& integrand,
   return plan_runs({grid}, {})[0];
 }
 
-// 1000 runs of 8 replicates; a 95% t interval each. The number that cover the exact value is
-// Binomial(1000, 0.95) if the intervals are right; the acceptance band holds 1 - 1e-4 of it.
-TEST(PlainCoverage, StudentIntervalsCoverAtTheirNominalRate) {
-  constexpr int kRuns = 1000;
-  constexpr std::uint32_t kReplicates = 8;
-  constexpr double kLevel = 0.95;
-  const RunPlan plan =
-      plan_one("genz-gaussian", {{"light_dims", {"2"}}, {"center", {"0.4"}}}, 2000, kReplicates);
-  const double t = boost::math::quantile(boost::math::students_t(kReplicates - 1), 0.975);
+// Student t intervals from `runs` independent runs of 8 replicates; the number that cover the
+// exact value is Binomial(runs, 0.95) if the intervals are right. Returns that count and the
+// band that holds 1 - 1e-4 of its distribution.
+struct Coverage {
+  int covered;
+  double low, high;
+};
+
+Coverage coverage(const RunPlan& plan, int runs) {
+  const double t = boost::math::quantile(boost::math::students_t(plan.replicates - 1), 0.975);
   int covered = 0;
-  for (int run = 0; run < kRuns; ++run) {
+  for (int run = 0; run < runs; ++run) {
     const RunResult result = execute_run(plan, {.seed = 1000u + static_cast<std::uint64_t>(run)});
     const Aggregates a = aggregate(result.replicates, result.reference, plan.samples);
     if (std::fabs(a.bias) <= t * a.stderr_of_mean) ++covered;
   }
-  const boost::math::binomial expected(kRuns, kLevel);
-  const double low = boost::math::quantile(expected, 0.5e-4);
-  const double high = boost::math::quantile(boost::math::complement(expected, 0.5e-4));
-  EXPECT_GE(covered, low);
-  EXPECT_LE(covered, high);
+  const boost::math::binomial expected(runs, 0.95);
+  return {covered, boost::math::quantile(expected, 0.5e-4),
+          boost::math::quantile(boost::math::complement(expected, 0.5e-4))};
+}
+
+TEST(PlainCoverage, StudentIntervalsCoverAtTheirNominalRate) {
+  const RunPlan plan =
+      plan_one("plain", "genz-gaussian", {{"light_dims", {"2"}}, {"center", {"0.4"}}}, 2000, 8);
+  const Coverage c = coverage(plan, 1000);
+  EXPECT_GE(c.covered, c.low);
+  EXPECT_LE(c.covered, c.high);
+}
+
+// The same for pool-based estimators, including a pool shared by the samples of a batch: the
+// replicates stay independent, so the intervals must still hold.
+TEST(ResamplingCoverage, StudentIntervalsCoverForPoolsFreshAndShared) {
+  const std::vector<RunPlan> plans = {
+      plan_one("vc-all", "blocker", {{"M", {"8"}}}, 1000, 8),
+      plan_one("pcbpt", "genz-oscillatory", {{"M", {"16"}}, {"K", {"2"}}, {"pool", {"shared"}}},
+               1024, 8)};
+  for (const RunPlan& plan : plans) {
+    const Coverage c = coverage(plan, 400);
+    EXPECT_GE(c.covered, c.low) << plan.estimator->name;
+    EXPECT_LE(c.covered, c.high) << plan.estimator->name;
+  }
 }
 
 // A long run, 64 replicates × 10^7 samples, that would show a small bias a short run cannot
 // (e.g. from a generator that loses low bits). False-alarm budget 1e-4. Label: full.
 TEST(FullPlainUnbiased, LongRunOnTheOscillatoryFamily) {
   const RunPlan plan =
-      plan_one("genz-oscillatory",
+      plan_one("plain", "genz-oscillatory",
                {{"light_dims", {"3"}}, {"camera_dims", {"2"}}, {"center", {"0.1"}}}, 10000000, 64);
   const RunResult result = execute_run(plan, {.seed = 4242});
   ASSERT_EQ(result.status, RunStatus::kOk);
