@@ -47,6 +47,24 @@ void ResamplingEstimator::choose(const BatchContext& ctx, std::uint32_t i, std::
 void ResamplingEstimator::estimate_batch(const BatchContext& ctx, PathWorkspace& paths,
                                          EstimatorScratch& scratch,
                                          std::span<double> estimates) const {
+  // Large pools are handled a few camera samples at a time, so that the candidate pairs of a
+  // batch (samples × M) stay within kMaxCandidates. Every random number is keyed by its sample
+  // (or batch) index, so the split does not change any estimate; a shared pool is drawn again
+  // from its batch's stream and comes out the same.
+  const std::uint32_t step = std::max<std::uint32_t>(1, kMaxCandidates / config_.M);
+  for (std::uint32_t offset = 0; offset < ctx.sample_count; offset += step) {
+    BatchContext part = ctx;
+    part.first_sample = ctx.first_sample + offset;
+    part.sample_count = std::min(step, ctx.sample_count - offset);
+    if (!ctx.magnitudes.empty())
+      part.magnitudes = ctx.magnitudes.subspan(offset, part.sample_count);
+    estimate_part(part, paths, scratch, estimates.subspan(offset, part.sample_count));
+  }
+}
+
+void ResamplingEstimator::estimate_part(const BatchContext& ctx, PathWorkspace& paths,
+                                        EstimatorScratch& scratch,
+                                        std::span<double> estimates) const {
   const std::uint32_t n = ctx.sample_count;
   const std::uint32_t m = config_.M;
   const bool shared = config_.pool == PoolMode::kShared;

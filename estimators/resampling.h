@@ -60,6 +60,13 @@ class ResamplingEstimator final : public Estimator {
   const ResamplingConfig& config() const { return config_; }
 
  private:
+  // Candidate pairs (camera samples × pool paths) handled at once; bounds the scratch memory.
+  static constexpr std::uint32_t kMaxCandidates = 1u << 20;
+
+  // estimate_batch for a part of a batch with at most kMaxCandidates candidate pairs.
+  void estimate_part(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& scratch,
+                     std::span<double> estimates) const;
+
   // Appends the chosen connections of camera sample i (pool starting at light path `start`) to
   // scratch.pairs and their P to scratch.draw_pmfs.
   void choose(const BatchContext& ctx, std::uint32_t i, std::uint32_t start,

@@ -232,3 +232,32 @@ TEST(ResamplingUnbiased, EveryConfigurationOnSignedAndPositiveIntegrands) {
 
 }  // namespace
 }  // namespace pcbench
+
+namespace pcbench {
+namespace {
+
+// Large pools are processed a part of a batch at a time; the split must not change a number.
+TEST(ResamplingPools, SplittingALargeBatchChangesNothing) {
+  const IntegrandEntry& entry = find_integrand("genz-oscillatory");
+  const auto integrand = entry.make(resolve_params(entry.params, {}, "test"));
+  for (const char* pool : {"fresh", "shared"}) {
+    const EstimatorEntry& pcbpt = find_estimator("pcbpt");
+    const auto estimator = pcbpt.make(
+        resolve_params(pcbpt.params, {{"M", "8192"}, {"K", "3"}, {"pool", pool}}, "test"));
+    std::vector<double> whole(256), part(100);
+    Counters counters;
+    EstimatorScratch scratch;
+    auto workspace = integrand->make_workspace();
+    // 256 samples × 8192 candidates exceed one part (2^20 pairs); 100 samples do not.
+    estimator->estimate_batch(
+        {.key = 5, .first_sample = 512, .sample_count = 256, .counters = &counters}, *workspace,
+        scratch, whole);
+    estimator->estimate_batch(
+        {.key = 5, .first_sample = 512, .sample_count = 100, .counters = &counters}, *workspace,
+        scratch, part);
+    for (std::size_t i = 0; i < part.size(); ++i) EXPECT_EQ(whole[i], part[i]) << pool << " " << i;
+  }
+}
+
+}  // namespace
+}  // namespace pcbench
