@@ -45,8 +45,9 @@ ResamplingConfig config_from(const ResolvedParams& params, Selection selection) 
                                               : ImportanceSource::kApproximate;
   }
   if (params.has("uniform_mix")) config.uniform_mix = params.real("uniform_mix");
-  if (params.has("sampler") && params.text("sampler") == "cdf") {
-    config.sampler = DiscreteSamplerKind::kCdf;
+  if (params.has("sampler")) {
+    config.sampler =
+        params.text("sampler") == "alias" ? DiscreteSamplerKind::kAlias : DiscreteSamplerKind::kCdf;
   }
   return config;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pcbench {
 
@@ -33,6 +34,16 @@ void ResamplingEstimator::choose(const BatchContext& ctx, std::uint32_t i, std::
   double total = 0.0;
   for (std::uint32_t j = 0; j < m; ++j) total += w[j];
   scratch.pmf.resize(m);
+  if (!std::isfinite(total)) {
+    // An infinite or NaN importance (f itself, for importance=f) leaves no valid P: the sample's
+    // estimate is not finite, and is reported as such rather than drawn from a broken table.
+    std::fill(scratch.pmf.begin(), scratch.pmf.end(), std::numeric_limits<double>::quiet_NaN());
+    for (std::uint32_t k = 0; k < config_.K; ++k) {
+      scratch.pairs.push_back({.light = start, .camera = i});
+      scratch.draw_pmfs.push_back(std::numeric_limits<double>::quiet_NaN());
+    }
+    return;
+  }
   const double u = total > 0.0 ? config_.uniform_mix : 1.0;
   const double scale = total > 0.0 ? (1.0 - u) / total : 0.0;
   for (std::uint32_t j = 0; j < m; ++j) scratch.pmf[j] = w[j] * scale + u * uniform_p;
@@ -156,8 +167,9 @@ void ResamplingEstimator::estimate_part(const BatchContext& ctx, PathWorkspace& 
     double magnitude = 0.0;
     for (std::size_t d = i * per_sample; d < (i + 1) * per_sample; ++d) {
       const double f = scratch.values[d];
-      // f = 0 contributes 0 whatever P is; f != 0 with P = 0 is a bias made visible (inf).
-      if (f == 0.0) continue;
+      // f = 0 contributes 0 whatever P is; f != 0 with P = 0 is a bias made visible (inf); a
+      // NaN P (no valid distribution) makes the sample NaN whatever f is.
+      if (f == 0.0 && !std::isnan(scratch.draw_pmfs[d])) continue;
       const double weight = 1.0 / (p_x[scratch.pairs[d].light] * p_y[i] * scratch.draw_pmfs[d]);
       sum += f * weight;
       magnitude += std::fabs(f) * weight;

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <ostream>
 
 #include "harness/errors.h"
@@ -116,10 +117,22 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
   if (run_app.count("--replicates")) budget.forced_replicates = args.replicates;
 
   const std::vector<RunPlan> plans = plan_runs(grids, budget);
-  if (!args.out_dir.empty() && std::filesystem::exists(args.out_dir) &&
-      !std::filesystem::is_directory(args.out_dir)) {
-    throw InputError(
-        fmt::format("command line: --out '{}' exists and is not a folder", args.out_dir));
+  if (run_app.count("--out") && args.out_dir.empty()) {
+    throw InputError("command line: --out is empty; give a folder");
+  }
+  if (!args.out_dir.empty()) {
+    if (std::filesystem::exists(args.out_dir) && !std::filesystem::is_directory(args.out_dir)) {
+      throw InputError(
+          fmt::format("command line: --out '{}' exists and is not a folder", args.out_dir));
+    }
+    // Make the folder now, so that a report that cannot be written fails before the runs, not
+    // after them. (The input is valid by now: creating it writes nothing half-done.)
+    std::error_code error;
+    std::filesystem::create_directories(args.out_dir, error);
+    if (error) {
+      throw InputError(fmt::format("command line: --out '{}' cannot be created: {}", args.out_dir,
+                                   error.message()));
+    }
   }
 
   session.threads =
@@ -158,7 +171,9 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
   run->add_option("--replicates,-r", run_args.replicates, "independent replicates (default 32)")
       ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
-  run->add_option("--seed,-s", run_args.seed, "seed (default 1)");
+  run->add_option("--seed,-s", run_args.seed, "seed (default 1)")
+      ->check(CLI::Range(std::uint64_t{0},
+                         static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
   run->add_option("--threads,-t", run_args.threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1u, 1024u));
   run->add_option("--out,-o", run_args.out_dir,

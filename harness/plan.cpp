@@ -110,7 +110,11 @@ std::uint64_t run_id_hash(const std::string& estimator, const std::string& integ
 std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
                                const BudgetDefaults& budget) {
   std::vector<RunPlan> plans;
-  std::set<std::uint64_t> seen;
+  struct SeenRow {
+    std::optional<std::string> expect;
+    std::string where;
+  };
+  std::map<std::uint64_t, SeenRow> seen;
   for (const GridRequest& grid : grids) {
     if (grid.expect && std::find(kExpectations.begin(), kExpectations.end(), *grid.expect) ==
                            kExpectations.end()) {
@@ -135,6 +139,11 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
         throw InputError(fmt::format("{}: samples = {} is out of range [1, {}]", grid.where,
                                      plan.samples, kMaxSamples));
       }
+      if (static_cast<double>(plan.samples) * plan.replicates > kMaxTotalSamples) {
+        throw InputError(fmt::format(
+            "{}: samples × replicates = {} × {} exceeds {:.0e} camera samples in one run",
+            grid.where, plan.samples, plan.replicates, kMaxTotalSamples));
+      }
       if (plan.replicates < 2 || plan.replicates > kMaxReplicates) {
         throw InputError(fmt::format(
             "{}: replicates = {} is out of range [2, {}] (tests need the spread across at least "
@@ -150,7 +159,18 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
         effective[key] = to_text(value);
       plan.id_hash = run_id_hash(row.estimator->name, row.integrand->name, effective, plan.samples,
                                  plan.replicates);
-      if (!seen.insert(plan.id_hash).second) continue;  // identical rows collapse into one
+      // Identical rows collapse into one; the same run expected to give two different verdicts
+      // is a contradiction in the suite, not something to settle by row order.
+      const auto [it, inserted] = seen.emplace(plan.id_hash, SeenRow{plan.expect, grid.where});
+      if (!inserted) {
+        if (it->second.expect != plan.expect) {
+          throw InputError(
+              fmt::format("{}: the same run as {} with a different expectation ({} vs {})",
+                          grid.where, it->second.where, plan.expect.value_or("default"),
+                          it->second.expect.value_or("default")));
+        }
+        continue;
+      }
       plan.id = fmt::format("{:016x}", plan.id_hash);
 
       const std::string where =

@@ -23,6 +23,8 @@ inline constexpr std::uint64_t kDefaultSeed = 1;
 // Counter layout limits of the random streams (harness/rng.h).
 inline constexpr std::uint64_t kMaxSamples = 0xFFFFFFFFull;
 inline constexpr std::uint32_t kMaxReplicates = 0xFFFFFFu;
+// 10^13 camera samples would take weeks here; a budget beyond it is a typo.
+inline constexpr double kMaxTotalSamples = 1e13;
 
 // A grid: the product of its lists. A plain suite row is a grid whose lists have one element.
 struct GridRequest {

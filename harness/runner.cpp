@@ -77,7 +77,7 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   const std::uint32_t chunk = chunk_size(samples);
   const std::uint64_t chunks_per_replicate = (samples + chunk - 1) / chunk;
   const std::uint64_t task_count = chunks_per_replicate * plan.replicates;
-  std::vector<ChunkResult> chunks(task_count);
+  std::vector<ChunkResult> chunks;
 
   const std::uint64_t key = run_key(options.seed, plan.id_hash);
   const Estimator& estimator = *plan.made_estimator;
@@ -118,6 +118,7 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   };
 
   try {
+    chunks.resize(task_count);
     tbb::parallel_for(
         tbb::blocked_range<std::uint64_t>(0, task_count, 1),
         [&](const tbb::blocked_range<std::uint64_t>& range) {

@@ -8,6 +8,7 @@
 #include <ctime>
 #include <filesystem>
 #include <ostream>
+#include <stdexcept>
 
 #include <unistd.h>
 
@@ -40,7 +41,12 @@ void update_latest_link(const fs::path& folder) {
   std::error_code ignored;
   fs::remove(temporary, ignored);
   fs::create_directory_symlink(fs::relative(folder, "results"), temporary);
-  fs::rename(temporary, link);
+  std::error_code error;
+  fs::rename(temporary, link, error);
+  if (error) {
+    fs::remove(temporary, ignored);
+    throw std::runtime_error(link.string() + ": " + error.message());
+  }
 }
 
 bool declared_infinite_variance(const RunPlan& plan) {
@@ -109,8 +115,22 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   const fs::path folder = default_folder ? default_run_folder() : fs::path(*options.out_dir);
   const fs::path report_path = folder / "report.json";
   const Context context = gather_context(options.argv, options.seed, options.threads);
-  write_file_atomically(report_path, report_json(context, options.suite_name, records));
-  if (default_folder) update_latest_link(folder);
+  try {
+    write_file_atomically(report_path, report_json(context, options.suite_name, records));
+  } catch (const std::exception& e) {
+    if (!options.quiet) print_summary(records, out);
+    err << "pcbench: error: cannot write the report " << report_path.string() << ": " << e.what()
+        << "\n";
+    return kExitRunFailed;
+  }
+  if (default_folder) {
+    try {
+      update_latest_link(folder);
+    } catch (const std::exception& e) {
+      // The report is written; only the convenience link failed.
+      err << "pcbench: warning: results/latest not updated: " << e.what() << "\n";
+    }
+  }
 
   if (!options.quiet) print_summary(records, out);
   out << "report: " << report_path.string() << "\n";

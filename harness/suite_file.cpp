@@ -21,8 +21,20 @@ class SuiteParser {
 
   SuiteRequest parse(const std::string& text) {
     Json root;
+    // JSON lets a key repeat and the last value silently win ("M": 4, "M": 64); refuse it.
+    std::vector<std::set<std::string>> keys_of_open_objects;
+    const auto refuse_duplicates = [&](int, Json::parse_event_t event, Json& parsed) {
+      if (event == Json::parse_event_t::object_start) keys_of_open_objects.emplace_back();
+      if (event == Json::parse_event_t::object_end) keys_of_open_objects.pop_back();
+      if (event == Json::parse_event_t::key &&
+          !keys_of_open_objects.back().insert(parsed.get<std::string>()).second) {
+        throw InputError(fmt::format("{}: key '{}' appears twice in one object", file_,
+                                     parsed.get<std::string>()));
+      }
+      return true;
+    };
     try {
-      root = Json::parse(text);
+      root = Json::parse(text, refuse_duplicates);
     } catch (const Json::parse_error& e) {
       // e.byte is the offset of the error; turn it into a line and column.
       throw InputError(fmt::format("{}:{}: JSON syntax error: {}", file_,

@@ -202,7 +202,12 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
       throw std::runtime_error("cannot write " + temporary.string());
     }
   }
-  std::filesystem::rename(temporary, path);
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    throw std::runtime_error("cannot rename " + temporary.string() + " to " + path.string());
+  }
 }
 
 }  // namespace pcbench

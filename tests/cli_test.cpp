@@ -83,7 +83,19 @@ TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
     std::ofstream suite("unknown_key.json");
     suite << R"({"runs": [{"estimator": "plain", "integrand": "genz-gaussian", "sample": 5}]})";
   }
+  std::ofstream("duplicate.json")
+      << R"({"runs": [{"estimator": "plain", "integrand": "genz-gaussian",
+                       "params": {"sharpness": 4, "sharpness": 5}}]})";
+  std::ofstream("contradiction.json")
+      << R"({"runs": [{"estimator": "plain", "integrand": "genz-gaussian", "expect": "consistent"},
+                      {"estimator": "plain", "integrand": "genz-gaussian", "expect": "biased"}]})";
   const std::vector<BadInput> cases = {
+      {{"run", "duplicate.json"}, "key 'sharpness' appears twice"},
+      {{"run", "contradiction.json"}, "/runs/1: the same run as"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "--out", ""}, "--out is empty"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "--seed", "-1"}, "--seed"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "-n", "4294967295", "-r", "16777215"},
+       "exceeds"},
       {{"run", "-e", "nope", "-i", "genz-gaussian"}, "valid estimators: plain"},
       {{"run", "-e", "plain", "-i", "nope"}, "valid integrands: genz-gaussian"},
       {{"run", "-e", "plain", "-i", "genz-gaussian", "-p", "M=4"}, "read by no estimator"},

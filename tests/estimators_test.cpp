@@ -261,3 +261,39 @@ TEST(ResamplingPools, SplittingALargeBatchChangesNothing) {
 
 }  // namespace
 }  // namespace pcbench
+
+namespace pcbench {
+namespace {
+
+// The sampler parameter is honoured: alias and CDF draw differently from the same numbers.
+TEST(ResamplingSampler, AliasAndCdfAreBothUsed) {
+  const IntegrandEntry& entry = find_integrand("genz-oscillatory");
+  const auto integrand = entry.make(resolve_params(entry.params, {}, "test"));
+  std::vector<std::vector<double>> estimates;
+  for (const char* sampler : {"alias", "cdf"}) {
+    const EstimatorEntry& pcbpt = find_estimator("pcbpt");
+    const auto estimator = pcbpt.make(
+        resolve_params(pcbpt.params, {{"M", "32"}, {"K", "2"}, {"sampler", sampler}}, "test"));
+    estimates.push_back(run_batch(*estimator, *integrand, 0, 64).estimates);
+  }
+  EXPECT_NE(estimates[0], estimates[1]);
+}
+
+// An infinite importance leaves no valid P: the sample is reported non-finite (never drawn from
+// a broken table, which would hide it and bias the estimate).
+TEST(ResamplingNonfinite, InfiniteImportanceMakesTheRunInvalid) {
+  for (const char* importance : {"approx", "f"}) {
+    GridRequest grid{
+        .estimators = {"pcbpt"},
+        .integrands = {"expr"},
+        .params = {{"f", {"x0 < 0.001 ? 1/0 : 1"}}, {"exact", {"1"}}, {"importance", {importance}}},
+        .samples = 4096,
+        .replicates = 2,
+        .where = "test"};
+    const RunResult result = execute_run(plan_runs({grid}, {})[0], {});
+    EXPECT_EQ(result.status, RunStatus::kInvalid) << importance;
+  }
+}
+
+}  // namespace
+}  // namespace pcbench
