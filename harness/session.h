@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "harness/plan.h"
+#include "harness/statistics.h"
 
 namespace pcbench {
 
@@ -28,7 +29,7 @@ struct SessionOptions {
   unsigned threads = 0;
   std::optional<std::string> out_dir;  // default: results/runs/<date-time>/ + results/latest
   bool quiet = false;
-  double alpha = 0.01;
+  double alpha = kDefaultAlpha;  // family-wise
   std::vector<std::string> argv;
   const std::atomic<bool>* interrupted = nullptr;
 };
