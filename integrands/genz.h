@@ -30,6 +30,13 @@ class GenzShape {
 
  protected:
   int dims() const { return light_dims_ + camera_dims_; }
+  // Σ_i z_i over z = (x, y).
+  double coordinate_sum(const double* x, const double* y) const {
+    double sum = 0.0;
+    for (int i = 0; i < light_dims_; ++i) sum += x[i];
+    for (int i = 0; i < camera_dims_; ++i) sum += y[i];
+    return sum;
+  }
 
   int light_dims_;
   int camera_dims_;
@@ -62,10 +69,7 @@ class GenzOscillatory : public GenzShape {
   Reference reference() const;
 
   double f(const double* x, const double* y) const {
-    double sum = 0.0;
-    for (int i = 0; i < light_dims_; ++i) sum += x[i];
-    for (int i = 0; i < camera_dims_; ++i) sum += y[i];
-    return std::cos(kTwoPi * center_ + sharpness_ * sum);
+    return std::cos(kTwoPi * center_ + sharpness_ * coordinate_sum(x, y));
   }
 
  private:

@@ -39,10 +39,7 @@ class GenzCornerPeak : public GenzShape {
   Reference reference() const;
 
   double f(const double* x, const double* y) const {
-    double sum = 0.0;
-    for (int i = 0; i < light_dims_; ++i) sum += x[i];
-    for (int i = 0; i < camera_dims_; ++i) sum += y[i];
-    return std::pow(1.0 + sharpness_ * sum, -(dims() + 1));
+    return std::pow(1.0 + sharpness_ * coordinate_sum(x, y), -(dims() + 1));
   }
 };
 

@@ -10,21 +10,10 @@
 #include "harness/plan.h"
 #include "harness/runner.h"
 #include "harness/statistics.h"
+#include "tests/test_support.h"
 
 namespace pcbench {
 namespace {
-
-RunPlan plan_one(const std::string& estimator, const std::string& integrand,
-                 std::map<std::string, std::vector<std::string>> params, std::uint64_t samples,
-                 std::uint32_t replicates) {
-  GridRequest grid{.estimators = {estimator},
-                   .integrands = {integrand},
-                   .params = std::move(params),
-                   .samples = samples,
-                   .replicates = replicates,
-                   .where = "test"};
-  return plan_runs({grid}, {})[0];
-}
 
 // Student t intervals from `runs` independent runs of 8 replicates; the number that cover the
 // exact value is Binomial(runs, 0.95) if the intervals are right. Returns that count and the
@@ -49,7 +38,7 @@ Coverage coverage(const RunPlan& plan, int runs) {
 
 TEST(PlainCoverage, StudentIntervalsCoverAtTheirNominalRate) {
   const RunPlan plan =
-      plan_one("plain", "genz-gaussian", {{"light_dims", {"2"}}, {"center", {"0.4"}}}, 2000, 8);
+      plan_single("plain", "genz-gaussian", {{"light_dims", {"2"}}, {"center", {"0.4"}}}, 2000, 8);
   const Coverage c = coverage(plan, 1000);
   EXPECT_GE(c.covered, c.low);
   EXPECT_LE(c.covered, c.high);
@@ -59,9 +48,9 @@ TEST(PlainCoverage, StudentIntervalsCoverAtTheirNominalRate) {
 // replicates stay independent, so the intervals must still hold.
 TEST(ResamplingCoverage, StudentIntervalsCoverForPoolsFreshAndShared) {
   const std::vector<RunPlan> plans = {
-      plan_one("vc-all", "blocker", {{"M", {"8"}}}, 1000, 8),
-      plan_one("pcbpt", "genz-oscillatory", {{"M", {"16"}}, {"K", {"2"}}, {"pool", {"shared"}}},
-               1024, 8)};
+      plan_single("vc-all", "blocker", {{"M", {"8"}}}, 1000, 8),
+      plan_single("pcbpt", "genz-oscillatory", {{"M", {"16"}}, {"K", {"2"}}, {"pool", {"shared"}}},
+                  1024, 8)};
   for (const RunPlan& plan : plans) {
     const Coverage c = coverage(plan, 400);
     EXPECT_GE(c.covered, c.low) << plan.estimator->name;
@@ -72,9 +61,9 @@ TEST(ResamplingCoverage, StudentIntervalsCoverForPoolsFreshAndShared) {
 // A long run, 64 replicates × 10^7 samples, that would show a small bias a short run cannot
 // (e.g. from a generator that loses low bits). False-alarm budget 1e-4. Label: full.
 TEST(FullPlainUnbiased, LongRunOnTheOscillatoryFamily) {
-  const RunPlan plan =
-      plan_one("plain", "genz-oscillatory",
-               {{"light_dims", {"3"}}, {"camera_dims", {"2"}}, {"center", {"0.1"}}}, 10000000, 64);
+  const RunPlan plan = plan_single(
+      "plain", "genz-oscillatory",
+      {{"light_dims", {"3"}}, {"camera_dims", {"2"}}, {"center", {"0.1"}}}, 10000000, 64);
   const RunResult result = execute_run(plan, {.seed = 4242});
   ASSERT_EQ(result.status, RunStatus::kOk);
   Verdict v = test_against_reference(result.replicates, result.reference, "consistent");

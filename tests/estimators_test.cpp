@@ -238,12 +238,9 @@ namespace {
 
 // Large pools are processed a part of a batch at a time; the split must not change a number.
 TEST(ResamplingPools, SplittingALargeBatchChangesNothing) {
-  const IntegrandEntry& entry = find_integrand("genz-oscillatory");
-  const auto integrand = entry.make(resolve_params(entry.params, {}, "test"));
+  const auto integrand = make_integrand("genz-oscillatory", {});
   for (const char* pool : {"fresh", "shared"}) {
-    const EstimatorEntry& pcbpt = find_estimator("pcbpt");
-    const auto estimator = pcbpt.make(
-        resolve_params(pcbpt.params, {{"M", "8192"}, {"K", "3"}, {"pool", pool}}, "test"));
+    const auto estimator = make("pcbpt", {{"M", "8192"}, {"K", "3"}, {"pool", pool}});
     std::vector<double> whole(256), part(100);
     Counters counters;
     EstimatorScratch scratch;
@@ -267,13 +264,10 @@ namespace {
 
 // The sampler parameter is honoured: alias and CDF draw differently from the same numbers.
 TEST(ResamplingSampler, AliasAndCdfAreBothUsed) {
-  const IntegrandEntry& entry = find_integrand("genz-oscillatory");
-  const auto integrand = entry.make(resolve_params(entry.params, {}, "test"));
+  const auto integrand = make_integrand("genz-oscillatory", {});
   std::vector<std::vector<double>> estimates;
   for (const char* sampler : {"alias", "cdf"}) {
-    const EstimatorEntry& pcbpt = find_estimator("pcbpt");
-    const auto estimator = pcbpt.make(
-        resolve_params(pcbpt.params, {{"M", "32"}, {"K", "2"}, {"sampler", sampler}}, "test"));
+    const auto estimator = make("pcbpt", {{"M", "32"}, {"K", "2"}, {"sampler", sampler}});
     estimates.push_back(run_batch(*estimator, *integrand, 0, 64).estimates);
   }
   EXPECT_NE(estimates[0], estimates[1]);

@@ -11,21 +11,10 @@
 #include "harness/statistics.h"
 #include "harness/tally.h"
 #include "integrands/point_integrand.h"
+#include "tests/test_support.h"
 
 namespace pcbench {
 namespace {
-
-std::vector<RunPlan> plan(const std::string& estimator, const std::string& integrand,
-                          std::map<std::string, std::vector<std::string>> params,
-                          std::uint64_t samples, std::uint32_t replicates) {
-  GridRequest grid{.estimators = {estimator},
-                   .integrands = {integrand},
-                   .params = std::move(params),
-                   .samples = samples,
-                   .replicates = replicates,
-                   .where = "test"};
-  return plan_runs({grid}, {});
-}
 
 RunResult run_with_threads(const RunPlan& p, int threads, std::uint64_t seed = 1) {
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
@@ -47,19 +36,20 @@ void expect_same_numbers(const RunResult& a, const RunResult& b) {
 
 TEST(RunnerDeterminism, SameNumbersForAnyThreadCount) {
   // 100003 samples: several chunks per replicate and a ragged last batch.
-  const auto plans = plan("plain", "genz-gaussian", {{"light_dims", {"2"}}}, 100003, 6);
-  const RunResult one = run_with_threads(plans[0], 1);
-  const RunResult two = run_with_threads(plans[0], 2);
-  const RunResult three = run_with_threads(plans[0], 3);
+  const RunPlan run_plan =
+      plan_single("plain", "genz-gaussian", {{"light_dims", {"2"}}}, 100003, 6);
+  const RunResult one = run_with_threads(run_plan, 1);
+  const RunResult two = run_with_threads(run_plan, 2);
+  const RunResult three = run_with_threads(run_plan, 3);
   ASSERT_EQ(one.status, RunStatus::kOk);
   expect_same_numbers(one, two);
   expect_same_numbers(one, three);
 
   // Probabilistic connections with a pool shared by each batch: draws, pools and the alias
   // tables all depend on the sample index only.
-  const auto shared =
-      plan("pcbpt", "genz-oscillatory", {{"pool", {"shared"}}, {"M", {"64"}}}, 30001, 4);
-  expect_same_numbers(run_with_threads(shared[0], 1), run_with_threads(shared[0], 2));
+  const RunPlan shared =
+      plan_single("pcbpt", "genz-oscillatory", {{"pool", {"shared"}}, {"M", {"64"}}}, 30001, 4);
+  expect_same_numbers(run_with_threads(shared, 1), run_with_threads(shared, 2));
 }
 
 TEST(RunnerDeterminism, NumbersDoNotDependOnSuiteOrder) {
@@ -81,17 +71,17 @@ TEST(RunnerDeterminism, NumbersDoNotDependOnSuiteOrder) {
 }
 
 TEST(RunnerDeterminism, SeedAndReplicateChangeTheNumbers) {
-  const auto plans = plan("plain", "genz-gaussian", {}, 2000, 2);
-  const RunResult seed1 = execute_run(plans[0], {.seed = 1});
-  const RunResult seed2 = execute_run(plans[0], {.seed = 2});
+  const RunPlan run_plan = plan_single("plain", "genz-gaussian", {}, 2000, 2);
+  const RunResult seed1 = execute_run(run_plan, {.seed = 1});
+  const RunResult seed2 = execute_run(run_plan, {.seed = 2});
   EXPECT_NE(seed1.replicates[0].estimate, seed2.replicates[0].estimate);
   EXPECT_NE(seed1.replicates[0].estimate, seed1.replicates[1].estimate);
 }
 
 TEST(RunnerChunks, EverySampleIsCountedOnce) {
   for (std::uint64_t samples : {1ull, 255ull, 256ull, 4097ull, 300001ull}) {
-    const auto plans = plan("plain", "genz-gaussian", {}, samples, 2);
-    const RunResult result = execute_run(plans[0], {});
+    const RunPlan run_plan = plan_single("plain", "genz-gaussian", {}, samples, 2);
+    const RunResult result = execute_run(run_plan, {});
     ASSERT_EQ(result.status, RunStatus::kOk);
     for (const ReplicateResult& rep : result.replicates) EXPECT_EQ(rep.n, samples);
     EXPECT_EQ(result.counters.camera_paths, 2 * samples);
@@ -107,9 +97,9 @@ TEST(RunnerChunks, ChunkSizeDependsOnlyOnTheSampleCount) {
 
 TEST(RunnerNonfinite, CountedLocatedAndTheRunMarkedInvalid) {
   // f is infinite for x0 < 0.01: about 1% of the samples.
-  const auto plans =
-      plan("plain", "expr", {{"f", {"x0 < 0.01 ? 1/0 : x0"}}, {"exact", {"0.5"}}}, 1000, 3);
-  const RunResult result = execute_run(plans[0], {.seed = 9});
+  const RunPlan run_plan =
+      plan_single("plain", "expr", {{"f", {"x0 < 0.01 ? 1/0 : x0"}}, {"exact", {"0.5"}}}, 1000, 3);
+  const RunResult result = execute_run(run_plan, {.seed = 9});
   EXPECT_EQ(result.status, RunStatus::kInvalid);
   ASSERT_TRUE(result.first_nonfinite.has_value());
   EXPECT_EQ(result.first_nonfinite->seed, 9u);
@@ -132,7 +122,7 @@ struct ThrowingModel {
 };
 
 TEST(RunnerErrors, AnExceptionInsideARunIsRecordedInThatRun) {
-  RunPlan p = plan("plain", "genz-gaussian", {}, 10000, 2)[0];
+  RunPlan p = plan_single("plain", "genz-gaussian", {}, 10000, 2);
   p.made_integrand = std::make_shared<PointIntegrand<ThrowingModel>>(ThrowingModel{});
   const RunResult result = execute_run(p, {});
   EXPECT_EQ(result.status, RunStatus::kError);
@@ -140,9 +130,9 @@ TEST(RunnerErrors, AnExceptionInsideARunIsRecordedInThatRun) {
 }
 
 TEST(RunnerInterrupt, AnInterruptedRunIsMarkedNotRun) {
-  const auto plans = plan("plain", "genz-gaussian", {}, 10000, 2);
+  const RunPlan run_plan = plan_single("plain", "genz-gaussian", {}, 10000, 2);
   const std::atomic<bool> interrupted{true};
-  const RunResult result = execute_run(plans[0], {.interrupted = &interrupted});
+  const RunResult result = execute_run(run_plan, {.interrupted = &interrupted});
   EXPECT_EQ(result.status, RunStatus::kNotRun);
 }
 
@@ -161,10 +151,10 @@ TEST(PlainVariance, MatchesTheExactVarianceOfTheGaussian) {
   constexpr int kDims = 3;  // light_dims 2 + camera_dims 1
   constexpr std::uint64_t kSamples = 20000;
   constexpr std::uint32_t kReplicates = 64;
-  const auto plans = plan("plain", "genz-gaussian",
-                          {{"light_dims", {"2"}}, {"sharpness", {"4"}}, {"center", {"0.3"}}},
-                          kSamples, kReplicates);
-  const RunResult result = execute_run(plans[0], {.seed = 3});
+  const RunPlan run_plan = plan_single(
+      "plain", "genz-gaussian", {{"light_dims", {"2"}}, {"sharpness", {"4"}}, {"center", {"0.3"}}},
+      kSamples, kReplicates);
+  const RunResult result = execute_run(run_plan, {.seed = 3});
   const double integral = std::pow(gaussian_1d(kSharpness * kSharpness, kCenter), kDims);
   const double second_moment = std::pow(gaussian_1d(2 * kSharpness * kSharpness, kCenter), kDims);
   const double sigma2 = second_moment - integral * integral;

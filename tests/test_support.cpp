@@ -11,6 +11,18 @@
 
 namespace pcbench {
 
+RunPlan plan_single(const std::string& estimator, const std::string& integrand,
+                    std::map<std::string, std::vector<std::string>> params, std::uint64_t samples,
+                    std::uint32_t replicates) {
+  GridRequest grid{.estimators = {estimator},
+                   .integrands = {integrand},
+                   .params = std::move(params),
+                   .samples = samples,
+                   .replicates = replicates,
+                   .where = "test"};
+  return plan_runs({grid}, {}).at(0);
+}
+
 double chi_square_uniform_p_value(const std::vector<double>& counts) {
   const double total = std::accumulate(counts.begin(), counts.end(), 0.0);
   const double expected = total / static_cast<double>(counts.size());

@@ -1,11 +1,20 @@
 // Helpers shared by the tests.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
+#include "harness/plan.h"
+
 namespace pcbench {
+
+// The plan of one estimator on one integrand (params: key -> values, one value each).
+RunPlan plan_single(const std::string& estimator, const std::string& integrand,
+                    std::map<std::string, std::vector<std::string>> params, std::uint64_t samples,
+                    std::uint32_t replicates);
 
 // p-value of Pearson's chi-square test that `counts` come from equal-probability bins.
 double chi_square_uniform_p_value(const std::vector<double>& counts);
