@@ -49,15 +49,16 @@ void DiscreteSampler::build(std::span<const double> pmf, DiscreteSamplerKind kin
 }
 
 std::uint32_t DiscreteSampler::draw(RandomStream& rng) const {
-  if (kind_ == DiscreteSamplerKind::kCdf) {
-    const double u = rng.uniform() * cdf_.back();
-    // First entry whose running sum exceeds u: zero-probability entries are never chosen.
-    // (u can round up to the total; then the last entry that can be drawn is taken.)
-    const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
-    return it == cdf_.end() ? last_positive_ : static_cast<std::uint32_t>(it - cdf_.begin());
-  }
+  if (kind_ == DiscreteSamplerKind::kCdf) return index_at(rng.uniform());
   const std::uint32_t column = rng.uniform_index(static_cast<std::uint32_t>(threshold_.size()));
   return rng.uniform() < threshold_[column] ? column : alias_[column];
+}
+
+std::uint32_t DiscreteSampler::index_at(double u) const {
+  // First entry whose running sum exceeds the target: zero-probability entries are never chosen.
+  // (The target can round up to the total; then the last entry that can be drawn is taken.)
+  const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u * cdf_.back());
+  return it == cdf_.end() ? last_positive_ : static_cast<std::uint32_t>(it - cdf_.begin());
 }
 
 }  // namespace pcbench

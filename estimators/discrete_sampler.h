@@ -24,6 +24,9 @@ class DiscreteSampler {
   // `pmf` must be non-negative with a positive sum (it need not be normalised exactly).
   void build(std::span<const double> pmf, DiscreteSamplerKind kind);
   std::uint32_t draw(RandomStream& rng) const;
+  // The inverse CDF at u in [0, 1): the first index whose running sum exceeds u × total. Only for
+  // a table built as kCdf (stratified and systematic draws need this map, not just any draw).
+  std::uint32_t index_at(double u) const;
 
  private:
   DiscreteSamplerKind kind_ = DiscreteSamplerKind::kAlias;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "estimators/discrete_sampler.h"
+#include "estimators/resampling_step.h"
 #include "harness/rng.h"
 #include "integrands/integrand.h"
 
@@ -66,14 +67,18 @@ struct BatchContext {
 
 // Scratch memory an estimator reuses across batches on one thread.
 struct EstimatorScratch {
-  std::vector<PathPair> pairs;
-  std::vector<double> values;
-  std::vector<PathPair> candidate_pairs;  // every (pool path, camera path) pair of a batch
+  std::vector<PathPair> candidate_pairs;   // every (pool path, camera path) pair of a batch
+  std::vector<PathPair> importance_pairs;  // the pairs whose importance guides the draws
   std::vector<double> importances;
-  std::vector<double> candidate_values;  // f of every candidate, when the importance is |f|
-  std::vector<double> pmf;               // P(j | y, X) of one camera sample
-  std::vector<double> draw_pmfs;         // P of each chosen connection
-  DiscreteSampler sampler;               // rebuilt per camera sample, memory kept
+  std::vector<double> candidate_values;   // f of every candidate, when known
+  std::vector<double> contributions;      // f / (p(x) p(y)) of every candidate, when known
+  std::vector<double> pmf;                // P(j | y, X) of one camera sample
+  std::vector<std::uint32_t> draws;       // the draws of one camera sample
+  std::vector<Term> terms;                // the weighted draws of every camera sample
+  std::vector<std::size_t> term_offsets;  // sample i's terms: [offsets[i], offsets[i + 1])
+  std::vector<PathPair> pairs;            // the connections of the terms
+  std::vector<double> values;             // f of each connection
+  DiscreteSampler sampler;                // rebuilt per camera sample, memory kept
 };
 
 class Estimator {

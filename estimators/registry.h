@@ -2,8 +2,10 @@
 // self-registration, which silently loses entries at link time).
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,12 +14,23 @@
 
 namespace pcbench {
 
+// Where a negative control is known to be biased: the integrand (with parameters) and the budget
+// at which the verifier must flag it. `pcbench verify -e CONTROL` runs this when no integrand is
+// named.
+struct DeclaredWorkload {
+  std::string integrand = {};
+  ParamText integrand_params = {};
+  std::uint64_t samples = 0;
+  std::uint32_t replicates = 0;
+};
+
 struct EstimatorEntry {
   std::string name;
   std::string description;
   bool biased = false;  // a negative control: the verifier must flag it
   std::vector<ParamSpec> params;
   std::function<std::unique_ptr<Estimator>(const ResolvedParams&)> make;
+  std::optional<DeclaredWorkload> declared = {};  // set for every negative control
 };
 
 const std::vector<EstimatorEntry>& estimator_registry();

@@ -2,58 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
+#include <numeric>
 
 namespace pcbench {
+namespace {
 
-void ResamplingEstimator::choose(const BatchContext& ctx, std::uint32_t i, std::uint32_t start,
-                                 EstimatorScratch& scratch) const {
-  const std::uint32_t m = config_.M;
-  const double uniform_p = 1.0 / static_cast<double>(m);
-  if (config_.selection == Selection::kAll) {
-    for (std::uint32_t j = 0; j < m; ++j) {
-      scratch.pairs.push_back({.light = start + j, .camera = i});
-      scratch.draw_pmfs.push_back(uniform_p);
-    }
-    return;
-  }
-
-  StreamId draw_stream = ctx.stream(StreamPurpose::kResampling);
-  draw_stream.sample = ctx.first_sample + i;
-  RandomStream rng(draw_stream);
-  if (config_.selection == Selection::kUniform) {
-    for (std::uint32_t k = 0; k < config_.K; ++k) {
-      scratch.pairs.push_back({.light = start + rng.uniform_index(m), .camera = i});
-      scratch.draw_pmfs.push_back(uniform_p);
-    }
-    return;
-  }
-
-  // P(j | y, X) = (1 - u) w_j / W + u / M; all-zero importances leave P uniform.
-  const double* w = scratch.importances.data() + static_cast<std::size_t>(i) * m;
-  double total = 0.0;
-  for (std::uint32_t j = 0; j < m; ++j) total += w[j];
-  scratch.pmf.resize(m);
-  if (!std::isfinite(total)) {
-    // An infinite or NaN importance (f itself, for importance=f) leaves no valid P: the sample's
-    // estimate is not finite, and is reported as such rather than drawn from a broken table.
-    std::fill(scratch.pmf.begin(), scratch.pmf.end(), std::numeric_limits<double>::quiet_NaN());
-    for (std::uint32_t k = 0; k < config_.K; ++k) {
-      scratch.pairs.push_back({.light = start, .camera = i});
-      scratch.draw_pmfs.push_back(std::numeric_limits<double>::quiet_NaN());
-    }
-    return;
-  }
-  const double u = total > 0.0 ? config_.uniform_mix : 1.0;
-  const double scale = total > 0.0 ? (1.0 - u) / total : 0.0;
-  for (std::uint32_t j = 0; j < m; ++j) scratch.pmf[j] = w[j] * scale + u * uniform_p;
-  scratch.sampler.build(scratch.pmf, config_.sampler);
-  for (std::uint32_t k = 0; k < config_.K; ++k) {
-    const std::uint32_t j = scratch.sampler.draw(rng);
-    scratch.pairs.push_back({.light = start + j, .camera = i});
-    scratch.draw_pmfs.push_back(scratch.pmf[j]);
-  }
+// The adversarial importance: positive everywhere (so the estimator stays unbiased) but largest
+// where the approximation says f is smallest.
+void make_adversarial(std::span<double> w) {
+  const double largest = *std::max_element(w.begin(), w.end());
+  for (double& v : w) v = 1.0 / (0.01 + (largest > 0.0 ? v / largest : 0.0));
 }
+
+}  // namespace
 
 void ResamplingEstimator::estimate_batch(const BatchContext& ctx, PathWorkspace& paths,
                                          EstimatorScratch& scratch,
@@ -62,7 +23,7 @@ void ResamplingEstimator::estimate_batch(const BatchContext& ctx, PathWorkspace&
   // batch (samples × M) stay within kMaxCandidates. Every random number is keyed by its sample
   // (or batch) index, so the split does not change any estimate; a shared pool is drawn again
   // from its batch's stream and comes out the same.
-  const std::uint32_t step = std::max<std::uint32_t>(1, kMaxCandidates / config_.M);
+  const std::uint32_t step = std::max<std::uint32_t>(1, kMaxCandidates / config_.step.M);
   for (std::uint32_t offset = 0; offset < ctx.sample_count; offset += step) {
     BatchContext part = ctx;
     part.first_sample = ctx.first_sample + offset;
@@ -73,112 +34,200 @@ void ResamplingEstimator::estimate_batch(const BatchContext& ctx, PathWorkspace&
   }
 }
 
-void ResamplingEstimator::estimate_part(const BatchContext& ctx, PathWorkspace& paths,
-                                        EstimatorScratch& scratch,
-                                        std::span<double> estimates) const {
-  const std::uint32_t n = ctx.sample_count;
-  const std::uint32_t m = config_.M;
-  const bool shared = config_.pool == PoolMode::kShared;
+PreparedPools ResamplingEstimator::prepare(const BatchContext& ctx, PathWorkspace& paths,
+                                           EstimatorScratch& scratch,
+                                           bool with_contributions) const {
+  const PreparedPools pools{.samples = ctx.sample_count,
+                            .M = config_.step.M,
+                            .shared = config_.pool == PoolMode::kShared};
+  const std::uint32_t n = pools.samples;
+  const std::uint32_t m = pools.M;
   paths.clear();
   paths.sample_paths(PathSide::kCamera, ctx.stream(StreamPurpose::kCameraPath), ctx.first_sample, n,
                      1);
   // A fresh pool per camera sample (pool of sample i = light paths [i M, (i + 1) M)), or one
-  // pool for the batch, drawn from the batch's own stream.
-  if (shared) {
-    paths.sample_paths(PathSide::kLight, ctx.stream(StreamPurpose::kLightPool), ctx.batch_index(),
-                       1, m);
-  } else {
-    paths.sample_paths(PathSide::kLight, ctx.stream(StreamPurpose::kLightPool), ctx.first_sample, n,
-                       m);
-  }
-  const auto pool_start = [&](std::uint32_t i) { return shared ? 0u : i * m; };
+  // pool for the batch, drawn from the batch's own stream. A control that needs an independent
+  // second pool gets it from the auxiliary stream, laid out the same way after the first.
+  const auto sample_pools = [&](StreamPurpose purpose) {
+    if (pools.shared) {
+      paths.sample_paths(PathSide::kLight, ctx.stream(purpose), ctx.batch_index(), 1, m);
+    } else {
+      paths.sample_paths(PathSide::kLight, ctx.stream(purpose), ctx.first_sample, n, m);
+    }
+  };
+  sample_pools(StreamPurpose::kLightPool);
+  if (step_.needs_foreign_pool()) sample_pools(StreamPurpose::kEstimatorAux);
 
-  // Importances of every (pool path, camera path) pair, in one call for the batch.
-  const bool by_importance = config_.selection == Selection::kImportance;
-  if (by_importance) {
-    scratch.candidate_pairs.resize(static_cast<std::size_t>(n) * m);
-    scratch.importances.resize(scratch.candidate_pairs.size());
-    for (std::uint32_t i = 0; i < n; ++i) {
-      for (std::uint32_t j = 0; j < m; ++j) {
-        scratch.candidate_pairs[static_cast<std::size_t>(i) * m + j] = {.light = pool_start(i) + j,
-                                                                        .camera = i};
-      }
-    }
-    switch (config_.importance) {
-      case ImportanceSource::kApproximate:
-        paths.importance(scratch.candidate_pairs, scratch.importances);
-        break;
-      case ImportanceSource::kF:
-        // f of every candidate is known now: keep it signed, so the chosen ones are not
-        // evaluated again below.
-        scratch.candidate_values.resize(scratch.candidate_pairs.size());
-        paths.connect(scratch.candidate_pairs, scratch.candidate_values);
-        for (std::size_t c = 0; c < scratch.importances.size(); ++c) {
-          scratch.importances[c] = std::fabs(scratch.candidate_values[c]);
-        }
-        break;
-      case ImportanceSource::kUniform:
-        std::fill(scratch.importances.begin(), scratch.importances.end(), 1.0);
-        break;
-    }
-    if (config_.importance != ImportanceSource::kUniform) {
-      ctx.counters->importance_evaluations += scratch.candidate_pairs.size();
-    }
-  }
-
-  // Choose the connections of every camera sample, then evaluate them in one call.
-  scratch.pairs.clear();
-  scratch.draw_pmfs.clear();
+  const std::size_t candidates = static_cast<std::size_t>(n) * m;
+  scratch.candidate_pairs.resize(candidates);
   for (std::uint32_t i = 0; i < n; ++i) {
-    const std::size_t first_draw = scratch.pairs.size();
-    choose(ctx, i, pool_start(i), scratch);
+    for (std::uint32_t j = 0; j < m; ++j) {
+      scratch.candidate_pairs[static_cast<std::size_t>(i) * m + j] = {
+          .light = pools.pool_start(i) + j, .camera = i};
+    }
+  }
+  scratch.candidate_values.clear();
+  scratch.contributions.clear();
+  if (with_contributions || step_.needs_contributions() ||
+      (config_.step.selection == Selection::kImportance &&
+       config_.importance == ImportanceSource::kF)) {
+    scratch.candidate_values.resize(candidates);
+    paths.connect(scratch.candidate_pairs, scratch.candidate_values);
+    const std::span<const double> p_x = paths.pdfs(PathSide::kLight);
+    const std::span<const double> p_y = paths.pdfs(PathSide::kCamera);
+    scratch.contributions.resize(candidates);
+    for (std::size_t c = 0; c < candidates; ++c) {
+      const PathPair pair = scratch.candidate_pairs[c];
+      scratch.contributions[c] = scratch.candidate_values[c] / (p_x[pair.light] * p_y[pair.camera]);
+    }
+  }
+  if (config_.step.selection == Selection::kImportance) evaluate_importance(pools, paths, scratch);
+  if (ctx.counters != nullptr) {
+    ctx.counters->camera_paths += n;
+    ctx.counters->light_paths += pools.shared ? m : candidates;
+  }
+  return pools;
+}
+
+void ResamplingEstimator::evaluate_importance(const PreparedPools& pools, PathWorkspace& paths,
+                                              EstimatorScratch& scratch) const {
+  const std::uint32_t n = pools.samples;
+  const std::uint32_t m = pools.M;
+  const std::size_t candidates = static_cast<std::size_t>(n) * m;
+  const bool foreign = step_.needs_foreign_pool();
+  const std::uint32_t width = foreign ? 2 * m : m;
+  const std::size_t pairs = static_cast<std::size_t>(n) * width;
+  scratch.importances.resize(pairs);
+
+  if (config_.importance == ImportanceSource::kUniform) {
+    std::fill(scratch.importances.begin(), scratch.importances.end(), 1.0);
+    return;
+  }
+  if (config_.importance == ImportanceSource::kF && !foreign) {
+    // f of every candidate is known already: |f| is the importance, and the chosen connections
+    // reuse f instead of evaluating it again.
+    for (std::size_t c = 0; c < candidates; ++c) {
+      scratch.importances[c] = std::fabs(scratch.candidate_values[c]);
+    }
+    return;
+  }
+
+  // Sample i's candidates, then (for the foreign pool) the same count from the second pool,
+  // seen from camera path i, or from its cache point (camera path n + i).
+  const bool cached = config_.importance == ImportanceSource::kCached;
+  if (cached) paths.add_cache_points(config_.cache_cells);
+  scratch.importance_pairs.resize(pairs);
+  const std::uint32_t second_pool = pools.shared ? m : static_cast<std::uint32_t>(candidates);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t camera = cached ? n + i : i;
+    for (std::uint32_t j = 0; j < width; ++j) {
+      const std::uint32_t light =
+          j < m ? pools.pool_start(i) + j : second_pool + pools.pool_start(i) + (j - m);
+      scratch.importance_pairs[static_cast<std::size_t>(i) * width + j] = {.light = light,
+                                                                           .camera = camera};
+    }
+  }
+  switch (config_.importance) {
+    case ImportanceSource::kF:
+    case ImportanceSource::kCached:
+      paths.connect(scratch.importance_pairs, scratch.importances);
+      for (double& w : scratch.importances) w = std::fabs(w);
+      break;
+    case ImportanceSource::kApproximate:
+    case ImportanceSource::kAdversarial:
+      paths.importance(scratch.importance_pairs, scratch.importances);
+      break;
+    case ImportanceSource::kUniform:
+      break;
+  }
+  if (config_.importance == ImportanceSource::kAdversarial) {
+    for (std::size_t first = 0; first < pairs; first += m) {
+      make_adversarial(std::span<double>(scratch.importances).subspan(first, m));
+    }
+  }
+}
+
+PoolView ResamplingEstimator::pool_view(const PreparedPools& pools, const EstimatorScratch& scratch,
+                                        std::uint32_t i) const {
+  const std::uint32_t m = pools.M;
+  PoolView view;
+  if (!scratch.contributions.empty()) {
+    view.contributions =
+        std::span<const double>(scratch.contributions).subspan(std::size_t{i} * m, m);
+  }
+  if (config_.step.selection != Selection::kImportance) return view;
+  const bool foreign = step_.needs_foreign_pool();
+  const std::size_t width = foreign ? 2 * m : m;
+  const std::span<const double> all(scratch.importances);
+  view.importance = all.subspan(i * width, m);
+  if (foreign) {
+    const std::span<const double> other = all.subspan(i * width + m, m);
+    view.foreign_importance_total = std::accumulate(other.begin(), other.end(), 0.0);
+  }
+  return view;
+}
+
+void ResamplingEstimator::estimate_part(const BatchContext& ctx, PathWorkspace& paths,
+                                        EstimatorScratch& scratch,
+                                        std::span<double> estimates) const {
+  const PreparedPools pools = prepare(ctx, paths, scratch, false);
+  const std::uint32_t n = pools.samples;
+  const std::uint32_t m = pools.M;
+  if (config_.step.selection == Selection::kImportance &&
+      config_.importance != ImportanceSource::kUniform) {
+    ctx.counters->importance_evaluations += static_cast<std::uint64_t>(n) * m;
+  }
+
+  // Choose and weigh the connections of every camera sample, then evaluate them in one call.
+  scratch.terms.clear();
+  scratch.term_offsets.assign(1, 0);
+  scratch.pairs.clear();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    StreamId draw_stream = ctx.stream(StreamPurpose::kResampling);
+    draw_stream.sample = ctx.first_sample + i;
+    RandomStream rng(draw_stream);
+    step_.choose(pool_view(pools, scratch, i), rng, scratch.pmf, scratch.sampler, scratch.draws,
+                 scratch.terms);
+    for (std::size_t t = scratch.term_offsets.back(); t < scratch.terms.size(); ++t) {
+      scratch.pairs.push_back({.light = pools.pool_start(i) + scratch.terms[t].index, .camera = i});
+    }
+    scratch.term_offsets.push_back(scratch.terms.size());
     if (ctx.log != nullptr) {
-      ResamplingRecord record{.sample = ctx.first_sample + i};
-      if (by_importance) {
-        record.pmf = scratch.pmf;
-      } else {
-        record.pmf.assign(m, 1.0 / static_cast<double>(m));
-      }
-      for (std::size_t d = first_draw; d < scratch.pairs.size(); ++d) {
-        record.draws.push_back(scratch.pairs[d].light - pool_start(i));
-      }
-      ctx.log->push_back(std::move(record));
+      ctx.log->push_back({.sample = ctx.first_sample + i,
+                          .pmf = scratch.pmf,
+                          .draws = std::vector<std::uint32_t>(scratch.draws)});
     }
   }
   scratch.values.resize(scratch.pairs.size());
-  if (by_importance && config_.importance == ImportanceSource::kF) {
+  if (!scratch.candidate_values.empty()) {
     for (std::size_t d = 0; d < scratch.pairs.size(); ++d) {
       const std::size_t i = scratch.pairs[d].camera;
-      const std::size_t j = scratch.pairs[d].light - pool_start(scratch.pairs[d].camera);
-      scratch.values[d] = scratch.candidate_values[i * m + j];
+      scratch.values[d] = scratch.candidate_values[i * m + scratch.terms[d].index];
     }
   } else {
     paths.connect(scratch.pairs, scratch.values);
   }
 
-  // Eq. (2): average of f / (p(x) p(y) P) over the K connections, divided by M.
+  // Σ coefficient × f / (p(x) p(y)) over each sample's terms.
   const std::span<const double> p_x = paths.pdfs(PathSide::kLight);
   const std::span<const double> p_y = paths.pdfs(PathSide::kCamera);
-  const std::size_t per_sample = scratch.pairs.size() / n;
-  const double normalisation = 1.0 / (static_cast<double>(m) * static_cast<double>(per_sample));
   const bool with_magnitudes = !ctx.magnitudes.empty();
   for (std::uint32_t i = 0; i < n; ++i) {
     double sum = 0.0;
     double magnitude = 0.0;
-    for (std::size_t d = i * per_sample; d < (i + 1) * per_sample; ++d) {
+    for (std::size_t d = scratch.term_offsets[i]; d < scratch.term_offsets[i + 1]; ++d) {
       const double f = scratch.values[d];
-      // f = 0 contributes 0 whatever P is; f != 0 with P = 0 is a bias made visible (inf); a
-      // NaN P (no valid distribution) makes the sample NaN whatever f is.
-      if (f == 0.0 && !std::isnan(scratch.draw_pmfs[d])) continue;
-      const double weight = 1.0 / (p_x[scratch.pairs[d].light] * p_y[i] * scratch.draw_pmfs[d]);
+      const double coefficient = scratch.terms[d].coefficient;
+      // f = 0 contributes 0 whatever its weight; a NaN weight (no valid P) makes the sample NaN
+      // whatever f is.
+      if (f == 0.0 && !std::isnan(coefficient)) continue;
+      const double weight = coefficient / (p_x[scratch.pairs[d].light] * p_y[i]);
       sum += f * weight;
       magnitude += std::fabs(f) * weight;
     }
-    estimates[i] = sum * normalisation;
-    if (with_magnitudes) ctx.magnitudes[i] = magnitude * normalisation;
+    estimates[i] = sum;
+    if (with_magnitudes) ctx.magnitudes[i] = magnitude;
   }
-  ctx.counters->camera_paths += n;
-  ctx.counters->light_paths += shared ? m : static_cast<std::uint64_t>(n) * m;
   ctx.counters->connections += scratch.pairs.size();
 }
 

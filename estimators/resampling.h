@@ -1,17 +1,18 @@
 // The estimator family of the seed note: a pool X of M light paths, K connections chosen from
 // it, and the estimate of Eq. (2)
 //     <I> = 1/(M K) Σ_k f(x_ξk, y) / (p(x_ξk) p(y) P(ξk | y, X)).
-// One code path samples the pool, chooses connections and weights them; the estimators differ
-// only in how they choose (the registry names each configuration):
+// One code path samples the pool, chooses connections and weights them (the choosing and
+// weighting is estimators/resampling_step.h); the estimators differ only in how they choose
+// (the registry names each configuration):
 //
 //   plain   M = K = 1, P = 1: one fresh light path per camera sample (plain BDPT).
 //   vc-all  every path of the pool once, P = 1/M (K = M systematic draws: E[count_j] = K P_j = 1,
 //           which is all the unbiasedness proof needs); estimate (1/M) Σ_j f / (p(x_j) p(y)).
 //   lvc     K uniform draws with replacement from the pool's light vertices, P = 1/N_v (an
 //           analytic light path is one vertex: N_v = M); the light-vertex-cache variant.
-//   pcbpt   K draws with replacement, P(j) = (1 - u) w_j / Σ w + u / M, w_j = w(x_j, y) the
-//           resampling importance and u = uniform_mix (Popov et al. 2015, Sec. 4). P > 0 wherever
-//           w > 0, and everywhere when u > 0.
+//   pcbpt   K draws, P(j) = (1 - u) w_j / Σ w + u / M, w_j = w(x_j, y) the resampling importance
+//           and u = uniform_mix (Popov et al. 2015, Sec. 4). P > 0 wherever w > 0, and
+//           everywhere when u > 0.
 //
 // Parameters (those an estimator reads are listed in its registry entry):
 //   M            light paths in a pool (default 16)
@@ -19,45 +20,65 @@
 //   pool         fresh: a new pool per camera sample (the seed's setup); shared: one pool per
 //                batch of 256 camera samples, as a renderer shares one per iteration
 //   importance   approx: the integrand's cheap approximation (|f| when it has none); f: |f|
-//                itself; uniform: w = 1
+//                itself; uniform: w = 1; cached: |f| at the cache point of the camera sample's
+//                cell (cache_cells per dimension), as PCBPT caches per screen tile; adversarial:
+//                1 / (0.01 + a / max a) for the approximation a, positive but large where f is
+//                small
 //   uniform_mix  u above (default 0.1)
-//   sampler      cdf (binary search, the default) or alias (Vose, O(1) per draw). Building the
-//                table costs more than the K draws unless K is comparable to M: measured with
-//                `pcbench_bench --benchmark_filter=BuildAndDraw`, building and drawing K = 4
-//                from M = 4096 takes 7 µs by CDF and 27 µs by alias, and CDF is ahead for every
-//                measured M >= 256 even at K = 64.
+//   draws        independent (with replacement, the default), stratified or systematic (through
+//                the inverse CDF); all three draw each j K P_j times in expectation
+//   sampler      cdf (binary search, the default) or alias (Vose, O(1) per draw), for independent
+//                draws. Building the table costs more than the K draws unless K is comparable to
+//                M: measured with `pcbench_bench --benchmark_filter=BuildAndDraw`, building and
+//                drawing K = 4 from M = 4096 takes 7 µs by CDF and 27 µs by alias, and CDF is
+//                ahead for every measured M >= 256 even at K = 64.
 #pragma once
 
 #include <cstdint>
 
-#include "estimators/discrete_sampler.h"
 #include "estimators/estimator.h"
+#include "estimators/resampling_step.h"
 
 namespace pcbench {
 
 enum class PoolMode { kFresh, kShared };
-enum class Selection { kAll, kUniform, kImportance };
-enum class ImportanceSource { kApproximate, kF, kUniform };
+enum class ImportanceSource { kApproximate, kF, kUniform, kCached, kAdversarial };
 
 struct ResamplingConfig {
-  std::uint32_t M = 1;
-  std::uint32_t K = 1;  // ignored by Selection::kAll (K = M)
+  StepConfig step = {};
   PoolMode pool = PoolMode::kFresh;
-  Selection selection = Selection::kAll;
   ImportanceSource importance = ImportanceSource::kApproximate;
-  double uniform_mix = 0.1;
-  DiscreteSamplerKind sampler = DiscreteSamplerKind::kCdf;
+  std::uint32_t cache_cells = 4;  // per camera dimension, for ImportanceSource::kCached
+};
+
+// The pools of a batch with everything the resampling step may need, as prepared for one part
+// of a batch: shared by the estimator and the exact check (harness/exact_check.h).
+struct PreparedPools {
+  std::uint32_t samples = 0;
+  std::uint32_t M = 0;
+  bool shared = false;
+  std::uint32_t pool_start(std::uint32_t i) const { return shared ? 0u : i * M; }
 };
 
 class ResamplingEstimator final : public Estimator {
  public:
-  explicit ResamplingEstimator(const ResamplingConfig& config) : config_(config) {}
+  explicit ResamplingEstimator(const ResamplingConfig& config)
+      : config_(config), step_(config.step) {}
 
   void estimate_batch(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& scratch,
                       std::span<double> estimates) const override;
   bool samples_independent() const override { return config_.pool == PoolMode::kFresh; }
 
   const ResamplingConfig& config() const { return config_; }
+  const ResamplingStep& step() const { return step_; }
+
+  // Samples the camera paths and pools of ctx's samples and evaluates what the step needs
+  // (importances; f of every candidate when `with_contributions` or the step needs it), into
+  // `scratch`. pool_view(i) then describes camera sample i's pool.
+  PreparedPools prepare(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& scratch,
+                        bool with_contributions) const;
+  PoolView pool_view(const PreparedPools& pools, const EstimatorScratch& scratch,
+                     std::uint32_t i) const;
 
  private:
   // Candidate pairs (camera samples × pool paths) handled at once; bounds the scratch memory.
@@ -66,13 +87,11 @@ class ResamplingEstimator final : public Estimator {
   // estimate_batch for a part of a batch with at most kMaxCandidates candidate pairs.
   void estimate_part(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& scratch,
                      std::span<double> estimates) const;
-
-  // Appends the chosen connections of camera sample i (pool starting at light path `start`) to
-  // scratch.pairs and their P to scratch.draw_pmfs.
-  void choose(const BatchContext& ctx, std::uint32_t i, std::uint32_t start,
-              EstimatorScratch& scratch) const;
+  void evaluate_importance(const PreparedPools& pools, PathWorkspace& paths,
+                           EstimatorScratch& scratch) const;
 
   ResamplingConfig config_;
+  ResamplingStep step_;
 };
 
 }  // namespace pcbench

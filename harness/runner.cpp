@@ -70,6 +70,9 @@ std::uint32_t chunk_size(std::uint64_t samples) {
 RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   RunResult result;
   result.reference = plan.made_integrand->reference();
+  if (plan.integrand->non_negative() && result.reference.kind != ReferenceKind::kNone) {
+    result.reference.magnitude = std::fabs(result.reference.value);
+  }
   result.independent_samples = plan.made_estimator->samples_independent();
   const auto run_start = std::chrono::steady_clock::now();
 

@@ -50,8 +50,7 @@ void update_latest_link(const fs::path& folder) {
 }
 
 bool declared_infinite_variance(const RunPlan& plan) {
-  const std::vector<std::string>& tags = plan.integrand->tags;
-  return std::find(tags.begin(), tags.end(), "infinite-variance") != tags.end();
+  return plan.integrand->has_tag("infinite-variance");
 }
 
 std::string default_expectation(const RunPlan& plan, const Reference& reference) {

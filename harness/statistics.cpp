@@ -20,7 +20,9 @@ struct Spread {
   double variance = kNaN;  // of one replicate's estimate, n - 1 in the denominator
 };
 
-double mean_abs_of(const std::vector<ReplicateResult>& replicates) {
+// ∫∫ |f|: the reference's when known, else the replicates' estimate of it.
+double mean_abs_of(const std::vector<ReplicateResult>& replicates, const Reference& reference) {
+  if (std::isfinite(reference.magnitude)) return reference.magnitude;
   CompensatedSum sum;
   for (const ReplicateResult& rep : replicates) sum.add(rep.mean_abs);
   return sum.value() / static_cast<double>(replicates.size());
@@ -73,7 +75,7 @@ Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Refer
   // Per-sample variance from the across-replicate spread: Var[one sample] = N Var[replicate].
   const double per_sample_variance = s.variance * static_cast<double>(samples_per_replicate);
   out.efficiency = 1.0 / (per_sample_variance * out.seconds_per_sample);
-  out.mean_abs = mean_abs_of(replicates);
+  out.mean_abs = mean_abs_of(replicates, reference);
   return out;
 }
 
@@ -113,7 +115,7 @@ Verdict test_against_reference(const std::vector<ReplicateResult>& replicates,
   }
   v.statistic = bias / v.test_stderr;
   v.reference_value = reference.value;
-  v.mean_abs = mean_abs_of(replicates);
+  v.mean_abs = mean_abs_of(replicates, reference);
   if (se2 == 0.0 && reference.uncertainty == 0.0) {
     // Every replicate gave the same number: the test is exact.
     v.statistic = bias == 0.0 ? 0.0 : std::copysign(std::numeric_limits<double>::infinity(), bias);

@@ -1,6 +1,7 @@
 #include "integrands/integrand.h"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace pcbench {
 
@@ -21,6 +22,10 @@ const char* to_string(ReferenceKind kind) {
 void PathWorkspace::importance(std::span<const PathPair> pairs, std::span<double> values) {
   connect(pairs, values);
   for (double& v : values) v = std::fabs(v);
+}
+
+void PathWorkspace::add_cache_points(std::uint32_t) {
+  throw std::runtime_error("this integrand has no cache points (importance=cached)");
 }
 
 }  // namespace pcbench

@@ -28,6 +28,10 @@ struct Reference {
   ReferenceKind kind = ReferenceKind::kNone;
   double uncertainty = 0.0;                              // standard error of `value` (0 for exact)
   double dof = std::numeric_limits<double>::infinity();  // degrees of freedom of `uncertainty`
+  // ∫∫ |f| where known (the value itself for a non-negative integrand): the scale against which
+  // a bias counts as small. Unknown (NaN) for signed integrands; then the run's own estimate of
+  // ∫∫ |f| stands in, which a biased estimator may bias too.
+  double magnitude = std::numeric_limits<double>::quiet_NaN();
 };
 
 // A connection between sampled path `light` and sampled path `camera` (indices into the
@@ -63,6 +67,13 @@ class PathWorkspace {
   // Resampling importance w(x, y) >= 0 for each pair; it must be > 0 wherever f != 0.
   // Default: |f|.
   virtual void importance(std::span<const PathPair> pairs, std::span<double> values);
+
+  // Appends one camera path per camera path sampled so far (in the same order): its *cache
+  // point*, the centre of the cell that holds it in a grid of `cells` cells per dimension.
+  // Probabilistic connections cache their importance per screen tile this way: every camera
+  // path of a cell is guided by what its cache point sees. The appended paths are for
+  // importance only; their pdfs mean nothing. Default: throws std::runtime_error (no cells).
+  virtual void add_cache_points(std::uint32_t cells);
 };
 
 class Integrand {

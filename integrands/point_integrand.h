@@ -21,6 +21,8 @@
 // thread-safe as long as its copy constructor gives the copy its own state.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -70,6 +72,18 @@ class PointWorkspace final : public PathWorkspace {
   }
 
   std::span<const double> pdfs(PathSide which) const override { return sides_[index(which)].pdfs; }
+
+  void add_cache_points(std::uint32_t cells) override {
+    Side& camera = sides_[1];
+    const std::size_t dims = dims_[1];
+    const std::size_t old_paths = camera.pdfs.size();
+    camera.coords.resize(2 * old_paths * dims);
+    camera.pdfs.resize(2 * old_paths, 1.0);
+    for (std::size_t c = 0; c < old_paths * dims; ++c) {
+      const double cell = std::min(std::floor(camera.coords[c] * cells), cells - 1.0);
+      camera.coords[old_paths * dims + c] = (cell + 0.5) / cells;
+    }
+  }
 
   void connect(std::span<const PathPair> pairs, std::span<double> values) override {
     const double* light = sides_[0].coords.data();

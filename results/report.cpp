@@ -65,7 +65,8 @@ Json reference_json(const Reference& reference, NumberWriter& numbers) {
   return Json{{"value", numbers.number(reference.value, "reference/value")},
               {"kind", to_string(reference.kind)},
               {"uncertainty", numbers.number(reference.uncertainty, "reference/uncertainty")},
-              {"dof", NumberWriter::optional_number(reference.dof)}};
+              {"dof", NumberWriter::optional_number(reference.dof)},
+              {"magnitude", NumberWriter::optional_number(reference.magnitude)}};
 }
 
 // Figures of a test that was not made (no reference) are null by design; those of a test that

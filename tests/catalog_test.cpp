@@ -545,7 +545,7 @@ bool has_required(const IntegrandEntry& entry) {
 }
 
 bool has_tag(const IntegrandEntry& entry, const std::string& tag) {
-  return std::find(entry.tags.begin(), entry.tags.end(), tag) != entry.tags.end();
+  return entry.has_tag(tag);
 }
 
 // Paths and connections of `pairs` plain pairs (i, i) through the integrand's workspace.
@@ -574,8 +574,8 @@ Connections connect_pairs(const Integrand& integrand, std::uint32_t pairs, std::
 }
 
 TEST(CatalogRegistry, HoldsTheCatalogWithReferencesAndKnownTags) {
-  const std::set<std::string> known = {"genz", "transport", "nonuniform-density", "stress",
-                                       "infinite-variance"};
+  const std::set<std::string> known = {"genz",   "transport",         "nonuniform-density",
+                                       "stress", "infinite-variance", "non-negative"};
   int with_reference = 0;
   std::map<std::string, int> tag_counts;
   for (const IntegrandEntry& entry : integrand_registry()) {
@@ -610,6 +610,19 @@ TEST(CatalogRegistry, NoIntegrandParameterUsesAnEstimatorName) {
     for (const ParamSpec& spec : entry.params) {
       EXPECT_EQ(reserved.count(spec.name), 0u) << entry.name << " declares '" << spec.name << "'";
     }
+  }
+}
+
+// The non-negative tag (which makes ∫∫ |f| the reference value) holds on 20000 random pairs, and
+// the signed members are signed.
+TEST(CatalogRegistry, NonNegativeTagMatchesTheSignOfF) {
+  for (const IntegrandEntry& entry : integrand_registry()) {
+    if (has_required(entry)) continue;
+    const auto integrand = entry.make(resolve_params(entry.params, {}, entry.name));
+    const Connections c = connect_pairs(*integrand, 20000, 7);
+    const bool negative_seen =
+        std::any_of(c.values.begin(), c.values.end(), [](double v) { return v < 0.0; });
+    EXPECT_EQ(!negative_seen, entry.non_negative()) << entry.name;
   }
 }
 

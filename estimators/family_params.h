@@ -1,0 +1,25 @@
+// Parameter declarations of the resampling family (estimators/resampling.h documents them) and
+// the reading of resolved parameters into a ResamplingConfig; shared by the estimators and the
+// negative controls.
+#pragma once
+
+#include "estimators/resampling.h"
+#include "harness/params.h"
+
+namespace pcbench {
+
+// Defaults differ between estimators: a negative control picks the M and K where its flaw shows.
+ParamSpec pool_size_spec(int default_value = 16, int min = 1);
+ParamSpec draws_spec(int default_value = 4);
+ParamSpec pool_mode_spec();
+ParamSpec draw_scheme_spec();
+ParamSpec importance_spec();
+ParamSpec uniform_mix_spec();
+ParamSpec sampler_spec();
+ParamSpec cache_cells_spec();
+ParamSpec severity_spec(std::string what);
+
+// The config of `base` with every family parameter present in `params` applied.
+ResamplingConfig config_from(const ResolvedParams& params, ResamplingConfig base);
+
+}  // namespace pcbench

@@ -1,0 +1,145 @@
+#include "estimators/resampling_step.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pcbench {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+bool all_finite(std::span<const double> values) {
+  return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
+}
+
+}  // namespace
+
+double ResamplingStep::keep_threshold(std::span<const double> importance) const {
+  if (config_.flaw != Flaw::kCullSmall && config_.flaw != Flaw::kRenormaliseKept) {
+    return -std::numeric_limits<double>::infinity();
+  }
+  const double largest =
+      importance.empty() ? 0.0 : *std::max_element(importance.begin(), importance.end());
+  return config_.severity * largest;
+}
+
+void ResamplingStep::build_pmf(const PoolView& pool, std::vector<double>& pmf) const {
+  const std::uint32_t m = config_.M;
+  pmf.resize(m);
+  if (config_.selection != Selection::kImportance) {
+    std::fill(pmf.begin(), pmf.end(), 1.0 / m);
+    return;
+  }
+  const std::span<const double> w = pool.importance;
+  if (!all_finite(w)) {
+    std::fill(pmf.begin(), pmf.end(), kNaN);
+    return;
+  }
+  const double threshold = keep_threshold(w);
+  double total = 0.0;
+  std::uint32_t kept = 0;
+  for (double wj : w) {
+    if (wj < threshold) continue;
+    total += wj;
+    ++kept;
+  }
+  // P = (1 - u) w / Σ w + u / M; all-zero importances leave P uniform. The negative control
+  // kRenormaliseKept spreads the uniform share over the kept candidates only.
+  const double u = total > 0.0 ? config_.uniform_mix : 1.0;
+  const double scale = total > 0.0 ? (1.0 - u) / total : 0.0;
+  const bool kept_only = config_.flaw == Flaw::kRenormaliseKept;
+  const double uniform_share = u / (kept_only ? kept : m);
+  for (std::uint32_t j = 0; j < m; ++j) {
+    const bool keep = w[j] >= threshold;
+    pmf[j] = (keep ? w[j] * scale : 0.0) + (keep || !kept_only ? uniform_share : 0.0);
+  }
+}
+
+void ResamplingStep::weigh(const PoolView& pool, std::span<const double> pmf,
+                           std::span<const std::uint32_t> draws, std::vector<Term>& terms) const {
+  const std::uint32_t m = config_.M;
+  double normaliser = m;
+  if (config_.flaw == Flaw::kWrongCount) normaliser = m - config_.severity;
+  if (config_.flaw == Flaw::kRenormaliseKept) {
+    const double threshold = keep_threshold(pool.importance);
+    normaliser = static_cast<double>(std::count_if(pool.importance.begin(), pool.importance.end(),
+                                                   [&](double w) { return w >= threshold; }));
+  }
+
+  // The P each draw is weighted by: the one it was drawn from, except for kForeignNormaliser.
+  double foreign_normaliser = 0.0;
+  double foreign_share = 0.0;
+  double foreign_uniform = 0.0;
+  const bool foreign =
+      config_.flaw == Flaw::kForeignNormaliser && config_.selection == Selection::kImportance;
+  if (foreign) {
+    double total = 0.0;
+    for (double w : pool.importance) total += w;
+    const double used =
+        (1.0 - config_.severity) * total + config_.severity * pool.foreign_importance_total;
+    const double u = total > 0.0 ? config_.uniform_mix : 1.0;
+    foreign_normaliser = used;
+    foreign_share = 1.0 - u;
+    foreign_uniform = u / m;
+  }
+  const auto weight_pmf = [&](std::uint32_t j) {
+    // w / Σ first: a tiny Σ must not turn w = 0 into 0 × inf.
+    if (!foreign || !(foreign_normaliser > 0.0)) return pmf[j];
+    return foreign_share * (pool.importance[j] / foreign_normaliser) + foreign_uniform;
+  };
+
+  const std::size_t first = terms.size();
+  const double per_draw = 1.0 / (normaliser * static_cast<double>(draws.size()));
+  for (std::uint32_t j : draws) {
+    terms.push_back({.index = j, .coefficient = per_draw / weight_pmf(j), .pmf = pmf[j]});
+  }
+  if (config_.flaw != Flaw::kBestDraw || draws.empty()) return;
+
+  // Keep a share of the estimate for the draw that contributed most, weighted as a single draw.
+  std::size_t best = first;
+  for (std::size_t t = first; t < terms.size(); ++t) {
+    const auto value = [&](std::size_t s) {
+      return std::fabs(pool.contributions[terms[s].index] * terms[s].coefficient);
+    };
+    if (value(t) > value(best)) best = t;
+  }
+  const Term chosen = terms[best];
+  for (std::size_t t = first; t < terms.size(); ++t) terms[t].coefficient *= 1.0 - config_.severity;
+  terms.push_back({.index = chosen.index,
+                   .coefficient = config_.severity / (normaliser * weight_pmf(chosen.index)),
+                   .pmf = chosen.pmf});
+}
+
+void ResamplingStep::choose(const PoolView& pool, RandomStream& rng, std::vector<double>& pmf,
+                            DiscreteSampler& sampler, std::vector<std::uint32_t>& draws,
+                            std::vector<Term>& terms) const {
+  build_pmf(pool, pmf);
+  if (std::isnan(pmf[0])) {
+    // No valid P: the estimate is NaN, reported as such rather than drawn from a broken table.
+    const std::uint32_t count = config_.scheme == DrawScheme::kEvery ? config_.M : config_.K;
+    for (std::uint32_t k = 0; k < count; ++k) terms.push_back({.coefficient = kNaN, .pmf = kNaN});
+    return;
+  }
+  draw_indices(config_.scheme, pmf, config_.K, config_.sampler, sampler, rng, draws);
+  weigh(pool, pmf, draws, terms);
+}
+
+void ResamplingStep::enumerate(
+    const PoolView& pool, const std::function<void(double, std::span<const Term>)>& visit) const {
+  std::vector<double> pmf;
+  build_pmf(pool, pmf);
+  std::vector<Term> terms;
+  if (std::isnan(pmf[0])) {
+    terms.push_back({.coefficient = kNaN, .pmf = kNaN});
+    visit(1.0, terms);
+    return;
+  }
+  enumerate_draws(config_.scheme, pmf, config_.K,
+                  [&](double probability, std::span<const std::uint32_t> draws) {
+                    terms.clear();
+                    weigh(pool, pmf, draws, terms);
+                    visit(probability, terms);
+                  });
+}
+
+}  // namespace pcbench
