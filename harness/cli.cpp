@@ -31,6 +31,10 @@ struct RunArguments {
   unsigned threads = 0;
   std::string out_dir;
   bool quiet = false;
+  // verify only
+  bool verify = false;
+  double alpha = kDefaultAlpha;
+  bool exact = false;
 };
 
 // Numbers and choices never contain commas, so for them a comma separates grid values.
@@ -50,17 +54,11 @@ bool takes_comma_lists(const std::string& key, const GridRequest& grid) {
   return false;
 }
 
-// The one-run form as a grid: `--param M=1,4,16` gives three runs. Only numeric and choice keys
-// are split on commas, so an expression such as f=min(x0,y0) stays whole.
-GridRequest grid_from_flags(const RunArguments& args) {
-  GridRequest grid;
-  grid.where = "command line";
-  grid.estimators = args.estimators;
-  grid.integrands = args.integrands;
-  if (grid.estimators.empty())
-    throw InputError("command line: --estimator is required (or give a suite file)");
-  if (grid.integrands.empty())
-    throw InputError("command line: --integrand is required (or give a suite file)");
+// Splits `--param` flags into key -> values. Only numeric and choice keys are split on commas
+// (a grid), so an expression such as f=min(x0,y0) stays whole.
+std::map<std::string, std::vector<std::string>> params_from_flags(const RunArguments& args,
+                                                                  const GridRequest& grid) {
+  std::map<std::string, std::vector<std::string>> params;
   for (const std::string& param : args.params) {
     const auto equals = param.find('=');
     if (equals == std::string::npos || equals == 0) {
@@ -68,10 +66,10 @@ GridRequest grid_from_flags(const RunArguments& args) {
     }
     const std::string key = param.substr(0, equals);
     const std::string value = param.substr(equals + 1);
-    if (grid.params.count(key)) {
+    if (params.count(key)) {
       throw InputError(fmt::format("command line: --param '{}' is given twice", key));
     }
-    std::vector<std::string>& values = grid.params[key];
+    std::vector<std::string>& values = params[key];
     if (!takes_comma_lists(key, grid)) {
       values.push_back(value);
       continue;
@@ -84,7 +82,49 @@ GridRequest grid_from_flags(const RunArguments& args) {
       start = comma + 1;
     }
   }
-  return grid;
+  return params;
+}
+
+// `verify -e CONTROL` without an integrand: each negative control on its declared integrand
+// and budget (the command line's --param and budget flags still apply).
+std::vector<GridRequest> declared_grids(const RunArguments& args) {
+  std::vector<GridRequest> grids;
+  for (const std::string& name : args.estimators) {
+    const EstimatorEntry& entry = find_estimator(name);
+    if (!entry.declared) {
+      throw InputError(fmt::format(
+          "command line: --integrand is required for '{}' (only a negative control declares its "
+          "own integrand)",
+          name));
+    }
+    GridRequest grid{.estimators = {name},
+                     .integrands = {entry.declared->integrand},
+                     .samples = entry.declared->samples,
+                     .replicates = entry.declared->replicates,
+                     .where = fmt::format("command line (declared workload of {})", name)};
+    grid.params = params_from_flags(args, grid);
+    for (const auto& [key, value] : entry.declared->integrand_params) {
+      if (!grid.params.count(key)) grid.params[key] = {value};
+    }
+    grids.push_back(std::move(grid));
+  }
+  return grids;
+}
+
+// The one-run form as grids: `--param M=1,4,16` gives three runs.
+std::vector<GridRequest> grids_from_flags(const RunArguments& args) {
+  if (args.estimators.empty())
+    throw InputError("command line: --estimator is required (or give a suite file)");
+  if (args.integrands.empty()) {
+    if (args.verify) return declared_grids(args);
+    throw InputError("command line: --integrand is required (or give a suite file)");
+  }
+  GridRequest grid;
+  grid.where = "command line";
+  grid.estimators = args.estimators;
+  grid.integrands = args.integrands;
+  grid.params = params_from_flags(args, grid);
+  return {grid};
 }
 
 int run_command(const RunArguments& args, const CLI::App& run_app,
@@ -110,7 +150,7 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     if (suite.replicates) budget.replicates = *suite.replicates;
     if (suite.seed && run_app.count("--seed") == 0) session.seed = *suite.seed;
   } else {
-    grids.push_back(grid_from_flags(args));
+    grids = grids_from_flags(args);
   }
   // Options given on the command line override the suite's defaults and its rows.
   if (run_app.count("--samples")) budget.forced_samples = args.samples;
@@ -140,9 +180,34 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
   session.quiet = args.quiet;
   session.argv = argv;
   session.interrupted = interrupted;
+  session.alpha = args.alpha;
   if (!args.out_dir.empty()) session.out_dir = args.out_dir;
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
+  if (args.exact) return run_exact_session(plans, session, out, err);
   return run_session(plans, session, out, err);
+}
+
+// The selection and budget options `run` and `verify` share.
+void add_run_options(CLI::App* app, RunArguments& args) {
+  app->add_option("suite", args.suite_path, "suite file (JSON)");
+  app->add_option("--estimator,-e", args.estimators, "estimator(s); a comma list is a grid")
+      ->delimiter(',');
+  app->add_option("--integrand,-i", args.integrands, "integrand(s); a comma list is a grid")
+      ->delimiter(',');
+  app->add_option("--param,-p", args.params,
+                  "key=value, repeatable; numeric and choice values may be comma lists (a grid)");
+  app->add_option("--samples,-n", args.samples, "camera samples per replicate (default 100000)")
+      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
+  app->add_option("--replicates,-r", args.replicates, "independent replicates (default 32)")
+      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
+  app->add_option("--seed,-s", args.seed, "seed (default 1)")
+      ->check(CLI::Range(std::uint64_t{0},
+                         static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
+  app->add_option("--threads,-t", args.threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(1u, 1024u));
+  app->add_option("--out,-o", args.out_dir,
+                  "output folder (default results/runs/<date-time>/, linked as results/latest)");
+  app->add_flag("--quiet,-q", args.quiet, "no progress and no summary table");
 }
 
 }  // namespace
@@ -160,25 +225,26 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
 
   RunArguments run_args;
   CLI::App* run = app.add_subcommand("run", "run a suite file, or one estimator on one integrand");
-  run->add_option("suite", run_args.suite_path, "suite file (JSON)");
-  run->add_option("--estimator,-e", run_args.estimators, "estimator(s); a comma list is a grid")
-      ->delimiter(',');
-  run->add_option("--integrand,-i", run_args.integrands, "integrand(s); a comma list is a grid")
-      ->delimiter(',');
-  run->add_option("--param,-p", run_args.params,
-                  "key=value, repeatable; numeric and choice values may be comma lists (a grid)");
-  run->add_option("--samples,-n", run_args.samples, "camera samples per replicate (default 100000)")
-      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
-  run->add_option("--replicates,-r", run_args.replicates, "independent replicates (default 32)")
-      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
-  run->add_option("--seed,-s", run_args.seed, "seed (default 1)")
-      ->check(CLI::Range(std::uint64_t{0},
-                         static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
-  run->add_option("--threads,-t", run_args.threads, "worker threads (default: all cores)")
-      ->check(CLI::Range(1u, 1024u));
-  run->add_option("--out,-o", run_args.out_dir,
-                  "output folder (default results/runs/<date-time>/, linked as results/latest)");
-  run->add_flag("--quiet,-q", run_args.quiet, "no progress and no summary table");
+  add_run_options(run, run_args);
+
+  RunArguments verify_args;
+  verify_args.verify = true;
+  CLI::App* verify = app.add_subcommand(
+      "verify",
+      "test E[estimate] = reference as one family (a negative control alone runs on its "
+      "declared integrand)");
+  add_run_options(verify, verify_args);
+  verify->add_option("--alpha", verify_args.alpha, "family-wise false-alarm rate (default 0.01)")
+      ->check(CLI::Range(0.0, 1.0) & CLI::Validator(
+                                         [](std::string& text) {
+                                           const double a = std::stod(text);
+                                           return a > 0.0 && a < 1.0
+                                                      ? std::string()
+                                                      : std::string("alpha must be in (0, 1)");
+                                         },
+                                         "in (0, 1)"));
+  verify->add_flag("--exact", verify_args.exact,
+                   "enumerate the resampling step exactly (M <= 6, K <= 3) instead of sampling");
 
   // CLI11 would say "A subcommand is required" without naming the subcommands.
   std::vector<std::string> commands;
@@ -209,6 +275,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       print_registry(out, list_json);
       return kExitOk;
     }
+    if (verify->parsed()) return run_command(verify_args, *verify, argv, out, err, interrupted);
     return run_command(run_args, *run, argv, out, err, interrupted);
   } catch (const InputError& e) {
     err << "pcbench: error: " << e.what() << "\n";

@@ -72,7 +72,60 @@ Verdict verdict_for(const RunPlan& plan, const RunResult& result) {
   return test_against_reference(result.replicates, result.reference, expect);
 }
 
+// Writes the report atomically into the run folder and points results/latest at a default
+// folder. Returns the report's path, or nothing (with the error on `err`) when it cannot be
+// written.
+std::optional<fs::path> publish(const std::string& report, const SessionOptions& options,
+                                std::ostream& err) {
+  const bool default_folder = !options.out_dir.has_value();
+  const fs::path folder = default_folder ? default_run_folder() : fs::path(*options.out_dir);
+  const fs::path report_path = folder / "report.json";
+  try {
+    write_file_atomically(report_path, report);
+  } catch (const std::exception& e) {
+    err << "pcbench: error: cannot write the report " << report_path.string() << ": " << e.what()
+        << "\n";
+    return std::nullopt;
+  }
+  if (default_folder) {
+    try {
+      update_latest_link(folder);
+    } catch (const std::exception& e) {
+      // The report is written; only the convenience link failed.
+      err << "pcbench: warning: results/latest not updated: " << e.what() << "\n";
+    }
+  }
+  return report_path;
+}
+
 }  // namespace
+
+int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& options,
+                      std::ostream& out, std::ostream& err) {
+  ReportSections sections;
+  bool differs = false;
+  for (const RunPlan& plan : plans) {
+    ExactRecord record{.plan = &plan, .check = exact_check(plan, options.seed)};
+    record.expect = plan.expect               ? *plan.expect
+                    : plan.estimator->biased  ? "biased"
+                    : record.check.applicable ? "consistent"
+                                              : "inconclusive";
+    if (record.check.result != record.expect) differs = true;
+    if (!options.quiet) {
+      out << fmt::format("{:<24} {:<18} {:<12} (expected {}): {}\n", plan.estimator->name,
+                         plan.integrand->name, record.check.result, record.expect,
+                         record.check.reason);
+    }
+    sections.exact_checks.push_back(std::move(record));
+  }
+  const std::optional<fs::path> report_path =
+      publish(report_json(gather_context(options.argv, options.seed, options.threads),
+                          options.suite_name, {}, sections),
+              options, err);
+  if (!report_path) return kExitRunFailed;
+  out << "report: " << report_path->string() << "\n";
+  return differs ? kExitVerdictDiffers : kExitOk;
+}
 
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err) {
@@ -110,29 +163,13 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   for (RunRecord& record : records) family.push_back(record.verdict ? &*record.verdict : nullptr);
   decide_family(family, options.alpha);
 
-  const bool default_folder = !options.out_dir.has_value();
-  const fs::path folder = default_folder ? default_run_folder() : fs::path(*options.out_dir);
-  const fs::path report_path = folder / "report.json";
-  const Context context = gather_context(options.argv, options.seed, options.threads);
-  try {
-    write_file_atomically(report_path, report_json(context, options.suite_name, records));
-  } catch (const std::exception& e) {
-    if (!options.quiet) print_summary(records, out);
-    err << "pcbench: error: cannot write the report " << report_path.string() << ": " << e.what()
-        << "\n";
-    return kExitRunFailed;
-  }
-  if (default_folder) {
-    try {
-      update_latest_link(folder);
-    } catch (const std::exception& e) {
-      // The report is written; only the convenience link failed.
-      err << "pcbench: warning: results/latest not updated: " << e.what() << "\n";
-    }
-  }
-
+  const std::optional<fs::path> report_path =
+      publish(report_json(gather_context(options.argv, options.seed, options.threads),
+                          options.suite_name, records),
+              options, err);
   if (!options.quiet) print_summary(records, out);
-  out << "report: " << report_path.string() << "\n";
+  if (!report_path) return kExitRunFailed;
+  out << "report: " << report_path->string() << "\n";
 
   bool differs = false;
   bool failed = false;

@@ -37,4 +37,10 @@ struct SessionOptions {
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err);
 
+// `pcbench verify --exact`: the enumerated check of each plan's resampling step
+// (harness/exact_check.h) instead of sampled runs. Exit 0 when every check matches its
+// expectation (a negative control must come out biased), 1 otherwise.
+int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& options,
+                      std::ostream& out, std::ostream& err);
+
 }  // namespace pcbench

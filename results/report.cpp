@@ -96,14 +96,19 @@ Json verdict_json(const Verdict& v, NumberWriter& numbers) {
                                      : Json(nullptr)}};
 }
 
+// The effective parameters of the estimator and the integrand, in one object.
+Json params_json(const RunPlan& plan) {
+  Json params = Json::object();
+  for (const auto& [key, value] : plan.estimator_params.values()) params[key] = param_value(value);
+  for (const auto& [key, value] : plan.integrand_params.values()) params[key] = param_value(value);
+  return params;
+}
+
 Json run_json(const RunRecord& record, std::uint64_t seed) {
   const RunPlan& plan = *record.plan;
   const RunResult& result = record.result;
   NumberWriter numbers;
-
-  Json params = Json::object();
-  for (const auto& [key, value] : plan.estimator_params.values()) params[key] = param_value(value);
-  for (const auto& [key, value] : plan.integrand_params.values()) params[key] = param_value(value);
+  const Json params = params_json(plan);
 
   Json replicates = Json::array();
   for (std::size_t r = 0; r < result.replicates.size(); ++r) {
@@ -175,17 +180,47 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
   return run;
 }
 
+Json exact_check_json(const ExactRecord& record) {
+  const RunPlan& plan = *record.plan;
+  const ExactCheck& c = record.check;
+  return Json{{"id", plan.id},
+              {"estimator", plan.estimator->name},
+              {"integrand", plan.integrand->name},
+              {"params", params_json(plan)},
+              {"applicable", c.applicable},
+              {"M", c.M},
+              {"K", c.K},
+              {"cases", c.cases},
+              {"sequences", c.sequences},
+              {"expectation_failures", c.expectation_failures},
+              {"max_scaled_error", NumberWriter::optional_number(c.max_scaled_error)},
+              {"tolerance", kExactTolerance},
+              {"support_violations", c.support_violations},
+              {"max_multiplicity_error", NumberWriter::optional_number(c.max_multiplicity_error)},
+              {"result", c.result},
+              {"expect", record.expect},
+              {"reason", c.reason}};
+}
+
 }  // namespace
 
 std::string report_json(const Context& context, const std::string& suite_name,
-                        const std::vector<RunRecord>& runs) {
+                        const std::vector<RunRecord>& runs, const ReportSections& sections) {
   Json runs_json = Json::array();
   for (const RunRecord& record : runs) runs_json.push_back(run_json(record, context.seed));
-  const Json report{{"schema_version", kSchemaVersion},
-                    {"suite", suite_name},
-                    {"context", context_json(context)},
-                    {"runs", runs_json},
-                    {"comparisons", Json::array()}};
+  Json report{{"schema_version", kSchemaVersion},
+              {"suite", suite_name},
+              {"context", context_json(context)},
+              {"runs", runs_json},
+              {"comparisons", sections.comparisons}};
+  if (!sections.exact_checks.empty()) {
+    Json checks = Json::array();
+    for (const ExactRecord& record : sections.exact_checks) {
+      checks.push_back(exact_check_json(record));
+    }
+    report["exact_checks"] = checks;
+  }
+  if (sections.calibration) report["calibration"] = *sections.calibration;
   return report.dump(2) + "\n";
 }
 

@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "harness/exact_check.h"
 #include "harness/plan.h"
 #include "harness/runner.h"
 #include "harness/statistics.h"
@@ -26,8 +29,22 @@ struct RunRecord {
   std::optional<Verdict> verdict;  // absent for runs that did not finish
 };
 
+// The exact check of one planned run (`verify --exact`) and what it was expected to find.
+struct ExactRecord {
+  const RunPlan* plan = nullptr;
+  ExactCheck check = {};
+  std::string expect = {};
+};
+
+// The report's optional parts besides the runs.
+struct ReportSections {
+  nlohmann::json comparisons = nlohmann::json::array();  // already in the schema's form
+  std::vector<ExactRecord> exact_checks = {};
+  std::optional<nlohmann::json> calibration = {};
+};
+
 std::string report_json(const Context& context, const std::string& suite_name,
-                        const std::vector<RunRecord>& runs);
+                        const std::vector<RunRecord>& runs, const ReportSections& sections = {});
 
 // Writes `text` to `path` atomically (temporary file + rename), creating parent folders.
 void write_file_atomically(const std::filesystem::path& path, const std::string& text);
