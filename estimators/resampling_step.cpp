@@ -45,13 +45,15 @@ void ResamplingStep::build_pmf(const PoolView& pool, std::vector<double>& pmf) c
   }
   // P = (1 - u) w / Σ w + u / M; all-zero importances leave P uniform. The negative control
   // kRenormaliseKept spreads the uniform share over the kept candidates only.
+  // w_j / Σ w is at most 1 even where Σ w is subnormal; (1 - u) / Σ w would overflow there and
+  // turn a zero importance into 0 × inf = NaN.
   const double u = total > 0.0 ? config_.uniform_mix : 1.0;
-  const double scale = total > 0.0 ? (1.0 - u) / total : 0.0;
   const bool kept_only = config_.flaw == Flaw::kRenormaliseKept;
   const double uniform_share = u / (kept_only ? kept : m);
   for (std::uint32_t j = 0; j < m; ++j) {
     const bool keep = w[j] >= threshold;
-    pmf[j] = (keep ? w[j] * scale : 0.0) + (keep || !kept_only ? uniform_share : 0.0);
+    const double share = keep && total > 0.0 ? (1.0 - u) * (w[j] / total) : 0.0;
+    pmf[j] = share + (keep || !kept_only ? uniform_share : 0.0);
   }
 }
 

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "harness/diagnostics.h"
 #include "harness/tally.h"
 
 namespace pcbench {
@@ -50,8 +51,8 @@ struct ThreadState {
 };
 
 struct ChunkResult {
-  Tally tally;
-  CompensatedSum magnitude;  // Σ of per-sample estimates of ∫∫ |f|
+  Tally tally = Tally();
+  CompensatedSum magnitude = {};  // Σ of per-sample estimates of ∫∫ |f|
   double seconds = 0.0;
   double cpu_seconds = 0.0;
   bool done = false;
@@ -121,7 +122,9 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   };
 
   try {
-    chunks.resize(task_count);
+    // Each chunk keeps as many of its largest |estimates| as the replicate's tail fit uses: the
+    // replicate's largest are then among the union of its chunks'.
+    chunks.assign(task_count, ChunkResult{.tally = Tally(pareto_tail_size(samples) + 1)});
     tbb::parallel_for(
         tbb::blocked_range<std::uint64_t>(0, task_count, 1),
         [&](const tbb::blocked_range<std::uint64_t>& range) {
@@ -146,7 +149,7 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   // Merge chunks in sample order: the same floating-point operations for any thread count.
   result.replicates.resize(plan.replicates);
   for (std::uint32_t r = 0; r < plan.replicates; ++r) {
-    Tally tally;
+    Tally tally(pareto_tail_size(samples) + 1);
     CompensatedSum magnitude;
     ReplicateResult& rep = result.replicates[r];
     for (std::uint64_t c = 0; c < chunks_per_replicate; ++c) {
@@ -162,9 +165,12 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
     rep.n = tally.count();
     rep.nonfinite = tally.nonfinite_count();
     rep.first_nonfinite_sample = tally.first_nonfinite_sample();
-    std::array<double, LargestValues::kCapacity> largest{};
-    rep.largest.assign(largest.begin(), largest.begin() + static_cast<std::ptrdiff_t>(
-                                                              tally.largest().sorted(largest)));
+    rep.largest = tally.largest().sorted();
+    rep.nonzero = tally.nonzero_count();
+    rep.effective_samples = tally.effective_sample_size();
+    if (!rep.largest.empty() && tally.sum_of_squares() > 0.0) {
+      rep.largest_square_share = rep.largest.front() * rep.largest.front() / tally.sum_of_squares();
+    }
     if (rep.first_nonfinite_sample && !result.first_nonfinite) {
       result.first_nonfinite = NonfiniteLocation{options.seed, r, *rep.first_nonfinite_sample};
     }

@@ -60,14 +60,14 @@ std::string default_expectation(const RunPlan& plan, const Reference& reference)
   return reference.kind == ReferenceKind::kNone ? "inconclusive" : "consistent";
 }
 
-// Student's t assumes a finite variance; where the integrand declares an infinite one, a
-// verdict either way would claim a confidence the test does not have. (The verification work
-// adds a tail diagnostic that decides this from the samples themselves.)
-Verdict verdict_for(const RunPlan& plan, const RunResult& result) {
+// Student's t assumes a finite variance and replicate means near normal; where the samples say
+// otherwise (a heavy tail, a handful of dominant samples), a verdict either way would claim a
+// confidence the test does not have, so the run is inconclusive with the reason.
+Verdict verdict_for(const RunPlan& plan, const RunResult& result,
+                    const SampleDiagnostics& diagnostics) {
   const std::string expect = default_expectation(plan, result.reference);
-  if (declared_infinite_variance(plan)) {
-    return untested_verdict(
-        "the integrand is declared infinite-variance: Student's t has no stated level", expect);
+  if (const std::optional<std::string> reason = untestable_reason(diagnostics)) {
+    return untested_verdict(*reason, expect);
   }
   return test_against_reference(result.replicates, result.reference, expect);
 }
@@ -151,7 +151,8 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     if (record.result.status == RunStatus::kOk) {
       record.aggregates =
           aggregate(record.result.replicates, record.result.reference, plan.samples);
-      record.verdict = verdict_for(plan, record.result);
+      record.diagnostics = diagnose_samples(record.result.replicates);
+      record.verdict = verdict_for(plan, record.result, record.diagnostics);
     } else if (record.result.status == RunStatus::kInvalid) {
       record.aggregates =
           aggregate(record.result.replicates, record.result.reference, plan.samples);

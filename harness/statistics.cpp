@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 
+#include "harness/diagnostics.h"
 #include "harness/tally.h"
 
 namespace pcbench {
@@ -77,6 +78,54 @@ Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Refer
   out.efficiency = 1.0 / (per_sample_variance * out.seconds_per_sample);
   out.mean_abs = mean_abs_of(replicates, reference);
   return out;
+}
+
+SampleDiagnostics diagnose_samples(const std::vector<ReplicateResult>& replicates) {
+  SampleDiagnostics d;
+  double shape_sum = 0.0;
+  int shapes = 0;
+  for (const ReplicateResult& rep : replicates) {
+    d.nonzero += rep.nonzero;
+    d.min_effective_samples = std::isnan(d.min_effective_samples)
+                                  ? rep.effective_samples
+                                  : std::min(d.min_effective_samples, rep.effective_samples);
+    if (rep.n == 0) continue;
+    // The tail of the non-zero samples: where most samples are 0, the top 3√n of all of them
+    // would reach down into the zeros, which are no tail.
+    if (rep.nonzero < 2) continue;
+    const std::size_t usable = std::min<std::size_t>(rep.largest.size(), rep.nonzero);
+    const TailShape tail =
+        pareto_tail_shape(std::span<const double>(rep.largest).first(usable), rep.nonzero);
+    if (std::isnan(tail.k)) continue;
+    if (shapes == 0) d.tail_size = tail.tail_size;
+    shape_sum += tail.k;
+    ++shapes;
+  }
+  if (shapes > 0) d.tail_shape = shape_sum / shapes;
+  std::vector<double> shares;
+  for (const ReplicateResult& rep : replicates) shares.push_back(rep.largest_square_share);
+  if (!shares.empty()) {
+    std::sort(shares.begin(), shares.end());
+    d.largest_share = shares[shares.size() / 2];
+  }
+  return d;
+}
+
+std::optional<std::string> untestable_reason(const SampleDiagnostics& d) {
+  if (d.tail_shape > kInfiniteVarianceShape && d.largest_share > kDominantShare) {
+    return fmt::format(
+        "the variance may be infinite: the tail of |estimates| has Pareto shape k = {:.2f} > 1/2 "
+        "(mean over replicates of fits to their {} largest) and one sample holds {:.0f}% of a "
+        "replicate's sum of squares (median), so Student's t has no stated level",
+        d.tail_shape, d.tail_size, 100.0 * d.largest_share);
+  }
+  if (!(d.min_effective_samples >= kMinEffectiveSamples)) {
+    return fmt::format(
+        "too few effective samples: a replicate has {:.3g} (Kish), below {}; {} non-zero "
+        "samples in all; its mean is not near normal, so Student's t has no stated level",
+        d.min_effective_samples, kMinEffectiveSamples, d.nonzero);
+  }
+  return std::nullopt;
 }
 
 Verdict untested_verdict(std::string reason, std::string expect) {

@@ -5,16 +5,10 @@
 
 namespace pcbench {
 
-std::size_t LargestValues::sorted(std::span<double, kCapacity> out) const {
-  std::copy_n(values_.begin(), size_, out.begin());
-  std::sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(size_), std::greater<>());
-  return size_;
-}
-
-void LargestValues::find_smallest() {
-  smallest_ = static_cast<std::size_t>(
-      std::min_element(values_.begin(), values_.begin() + static_cast<std::ptrdiff_t>(size_)) -
-      values_.begin());
+std::vector<double> LargestValues::sorted() const {
+  std::vector<double> out = heap_;
+  std::sort(out.begin(), out.end(), std::greater<>());
+  return out;
 }
 
 void Tally::merge(const Tally& later) {
@@ -33,6 +27,9 @@ void Tally::merge(const Tally& later) {
     n_ += later.n_;
     sum_.add(later.sum_);
     largest_.merge(later.largest_);
+    nonzero_ += later.nonzero_;
+    sum_abs_ += later.sum_abs_;
+    sum_squares_ += later.sum_squares_;
   }
   if (later.nonfinite_ > 0) {
     if (!first_nonfinite_) first_nonfinite_ = later.first_nonfinite_;

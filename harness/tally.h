@@ -1,16 +1,18 @@
 // Running statistics of per-sample estimates: Welford's update within a chunk, Chan et al.'s
 // pairwise merge across chunks, a Neumaier-compensated sum for the mean, non-finite samples
-// counted (never dropped) with the first one located, and a small reservoir of the largest |x|
-// for the tail diagnostic.
+// counted (never dropped) with the first one located, the largest |x| for the tail diagnostic,
+// and the non-zero count and effective sample size for the low-count guard.
 #pragma once
 
-#include <array>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <span>
+#include <vector>
 
 namespace pcbench {
 
@@ -38,37 +40,42 @@ class CompensatedSum {
   double compensation_ = 0.0;
 };
 
-// The k largest |x| seen, kept for the tail-index diagnostic of the verifier.
+// The k largest |x| seen, kept for the tail-shape diagnostic of the verifier (a min-heap: the
+// smallest kept value is at the front, so most samples cost one comparison).
 class LargestValues {
  public:
-  static constexpr std::size_t kCapacity = 16;
+  explicit LargestValues(std::size_t capacity) : capacity_(capacity) {}
+  static constexpr std::size_t kDefaultCapacity = 16;
 
   void add(double magnitude) {
-    if (size_ < kCapacity) {
-      values_[size_++] = magnitude;
-      if (size_ == kCapacity) find_smallest();
+    if (heap_.size() < capacity_) {
+      heap_.push_back(magnitude);
+      std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
       return;
     }
-    if (magnitude <= values_[smallest_]) return;
-    values_[smallest_] = magnitude;
-    find_smallest();
+    if (capacity_ == 0 || magnitude <= heap_.front()) return;
+    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
+    heap_.back() = magnitude;
+    std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
   }
   void merge(const LargestValues& other) {
-    for (std::size_t i = 0; i < other.size_; ++i) add(other.values_[i]);
+    for (double v : other.heap_) add(v);
   }
-  // Largest first.
-  std::size_t sorted(std::span<double, kCapacity> out) const;
+  // Largest first. The set kept is the k largest of the multiset seen, so it does not depend on
+  // the order of adds and merges.
+  std::vector<double> sorted() const;
+  std::size_t capacity() const { return capacity_; }
 
  private:
-  void find_smallest();
-
-  std::array<double, kCapacity> values_{};
-  std::size_t size_ = 0;
-  std::size_t smallest_ = 0;
+  std::size_t capacity_;
+  std::vector<double> heap_;
 };
 
 class Tally {
  public:
+  Tally() : Tally(LargestValues::kDefaultCapacity) {}
+  explicit Tally(std::size_t largest_capacity) : largest_(largest_capacity) {}
+
   // Adds the estimate of sample `sample_index` (the index is only kept if x is not finite).
   void add(double x, std::uint64_t sample_index) {
     if (!std::isfinite(x)) [[unlikely]] {
@@ -80,7 +87,11 @@ class Tally {
     const double delta = x - mean_;
     mean_ += delta / static_cast<double>(n_);
     m2_ += delta * (x - mean_);
-    largest_.add(std::fabs(x));
+    const double magnitude = std::fabs(x);
+    largest_.add(magnitude);
+    if (x != 0.0) ++nonzero_;
+    sum_abs_ += magnitude;
+    sum_squares_ += x * x;
   }
 
   // Chan et al.'s merge. `later` must hold samples that come after this tally's in sample order,
@@ -102,6 +113,13 @@ class Tally {
   }
   std::optional<std::uint64_t> first_nonfinite_sample() const { return first_nonfinite_; }
   const LargestValues& largest() const { return largest_; }
+  std::uint64_t nonzero_count() const { return nonzero_; }
+  // Kish's effective sample size of the finite samples, (Σ |x|)² / Σ x²: n for samples of one
+  // magnitude, about 1 when one sample dominates (a peak hit once). 0 when all are 0.
+  double effective_sample_size() const {
+    return sum_squares_ > 0.0 ? sum_abs_ * sum_abs_ / sum_squares_ : 0.0;
+  }
+  double sum_of_squares() const { return sum_squares_; }
 
  private:
   void add_nonfinite(double x, std::uint64_t sample_index);
@@ -114,6 +132,9 @@ class Tally {
   double nonfinite_sum_ = 0.0;  // inf + -inf gives NaN, as the true sum would
   std::optional<std::uint64_t> first_nonfinite_;
   LargestValues largest_;
+  std::uint64_t nonzero_ = 0;
+  double sum_abs_ = 0.0;  // diagnostics only: plain sums in a fixed order
+  double sum_squares_ = 0.0;
 };
 
 }  // namespace pcbench

@@ -96,6 +96,14 @@ Json verdict_json(const Verdict& v, NumberWriter& numbers) {
                                      : Json(nullptr)}};
 }
 
+// The report keeps the 16 largest |estimates| of a replicate (the tail fit used more).
+constexpr std::size_t kReportedLargest = 16;
+Json largest_abs(const std::vector<double>& largest) {
+  return Json(std::vector<double>(
+      largest.begin(),
+      largest.begin() + static_cast<std::ptrdiff_t>(std::min(largest.size(), kReportedLargest))));
+}
+
 // The effective parameters of the estimator and the integrand, in one object.
 Json params_json(const RunPlan& plan) {
   Json params = Json::object();
@@ -114,16 +122,18 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
   for (std::size_t r = 0; r < result.replicates.size(); ++r) {
     const ReplicateResult& rep = result.replicates[r];
     const std::string at = fmt::format("replicates/{}/", r);
-    replicates.push_back(
-        Json{{"estimate", numbers.number(rep.estimate, at + "estimate")},
-             {"mean_abs", numbers.number(rep.mean_abs, at + "mean_abs")},
-             {"variance", result.independent_samples ? numbers.number(rep.variance, at + "variance")
-                                                     : Json(nullptr)},
-             {"n", rep.n},
-             {"nonfinite", rep.nonfinite},
-             {"seconds", rep.seconds},
-             {"cpu_seconds", rep.cpu_seconds},
-             {"largest_abs", rep.largest}});
+    replicates.push_back(Json{
+        {"estimate", numbers.number(rep.estimate, at + "estimate")},
+        {"mean_abs", numbers.number(rep.mean_abs, at + "mean_abs")},
+        {"variance", result.independent_samples ? numbers.number(rep.variance, at + "variance")
+                                                : Json(nullptr)},
+        {"n", rep.n},
+        {"nonfinite", rep.nonfinite},
+        {"seconds", rep.seconds},
+        {"cpu_seconds", rep.cpu_seconds},
+        {"largest_abs", largest_abs(rep.largest)},
+        {"nonzero", rep.nonzero},
+        {"effective_samples", numbers.number(rep.effective_samples, at + "effective_samples")}});
   }
 
   Json aggregates = nullptr;
@@ -170,6 +180,13 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
       {"replicates", replicates},
       {"aggregates", aggregates},
       {"verdict", record.verdict ? verdict_json(*record.verdict, numbers) : Json(nullptr)},
+      {"diagnostics",
+       Json{{"tail_shape", NumberWriter::optional_number(record.diagnostics.tail_shape)},
+            {"tail_size", record.diagnostics.tail_size},
+            {"largest_share", NumberWriter::optional_number(record.diagnostics.largest_share)},
+            {"nonzero_samples", record.diagnostics.nonzero},
+            {"min_effective_samples",
+             NumberWriter::optional_number(record.diagnostics.min_effective_samples)}}},
       {"first_nonfinite", first_nonfinite},
       {"counters", Json{{"camera_paths", c.camera_paths},
                         {"light_paths", c.light_paths},

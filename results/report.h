@@ -26,6 +26,7 @@ struct RunRecord {
   const RunPlan* plan = nullptr;
   RunResult result;
   Aggregates aggregates;
+  SampleDiagnostics diagnostics;
   std::optional<Verdict> verdict;  // absent for runs that did not finish
 };
 

@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "harness/plan.h"
 #include "harness/rng.h"
+#include "harness/runner.h"
 
 namespace pcbench {
 namespace {
@@ -320,6 +322,45 @@ TEST(StatisticsCalibration, OneSampleTFalseAlarmRateIsAlpha) {
   EXPECT_LE(false_alarms, high) << "band [" << low << ", " << high << "]";
   // The band is informative: it excludes the normal-approximation rate of about 9.1%.
   EXPECT_LT(high, 0.08 * kRuns);
+}
+
+}  // namespace
+}  // namespace pcbench
+
+namespace pcbench {
+namespace {
+
+// The guards that make a run inconclusive: a heavy tail counts only with a dominant largest
+// sample (a high k̂ on bounded, clustered samples does not), and too few effective samples.
+TEST(StatisticsGuards, StatedReasonsOnly) {
+  const SampleDiagnostics heavy{
+      .tail_shape = 0.75, .tail_size = 900, .largest_share = 0.4, .min_effective_samples = 500};
+  const SampleDiagnostics clustered{
+      .tail_shape = 2.1, .tail_size = 900, .largest_share = 0.001, .min_effective_samples = 5000};
+  const SampleDiagnostics finite{
+      .tail_shape = 0.3, .tail_size = 900, .largest_share = 0.005, .min_effective_samples = 5000};
+  const SampleDiagnostics sparse{
+      .tail_shape = -0.5, .tail_size = 3, .largest_share = 0.3, .min_effective_samples = 3};
+  ASSERT_TRUE(untestable_reason(heavy).has_value());
+  EXPECT_NE(untestable_reason(heavy)->find("variance may be infinite"), std::string::npos);
+  EXPECT_FALSE(untestable_reason(clustered).has_value());
+  EXPECT_FALSE(untestable_reason(finite).has_value());
+  ASSERT_TRUE(untestable_reason(sparse).has_value());
+  EXPECT_NE(untestable_reason(sparse)->find("too few effective samples"), std::string::npos);
+}
+
+// A width-1e-6 peak hit by few samples is inconclusive, never a confident wrong verdict.
+TEST(StatisticsGuards, NarrowPeakIsInconclusiveNotWrong) {
+  const RunPlan plan = plan_runs({GridRequest{.estimators = {"plain"},
+                                              .integrands = {"narrow-peak"},
+                                              .params = {{"width", {"1e-6"}}},
+                                              .samples = 20000,
+                                              .replicates = 16,
+                                              .where = "test"}},
+                                 {})[0];
+  const RunResult result = execute_run(plan, {.seed = 3});
+  const SampleDiagnostics d = diagnose_samples(result.replicates);
+  ASSERT_TRUE(untestable_reason(d).has_value()) << d.min_effective_samples;
 }
 
 }  // namespace

@@ -98,23 +98,35 @@ TEST(TallyNonfinite, InfinityPropagatesIntoTheMean) {
 }
 
 TEST(TallyLargest, KeepsTheLargestMagnitudes) {
-  Tally t;
+  Tally t(40);
   for (int i = 0; i < 1000; ++i) t.add((i % 2 ? -1.0 : 1.0) * i, static_cast<std::uint64_t>(i));
-  std::array<double, LargestValues::kCapacity> out{};
-  const std::size_t n = t.largest().sorted(out);
-  ASSERT_EQ(n, LargestValues::kCapacity);
-  for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(out[k], 999.0 - static_cast<double>(k));
+  const std::vector<double> out = t.largest().sorted();
+  ASSERT_EQ(out.size(), 40u);
+  for (std::size_t k = 0; k < out.size(); ++k) EXPECT_EQ(out[k], 999.0 - static_cast<double>(k));
 }
 
-TEST(TallyLargest, MergeKeepsTheLargestOfBoth) {
-  Tally a, b;
+// The set kept is the k largest of everything seen, whatever the order of adds and merges.
+TEST(TallyLargest, MergeKeepsTheLargestOfBothInAnyOrder) {
+  Tally a(16), b(16), c(16);
   for (int i = 0; i < 100; ++i) a.add(i, static_cast<std::uint64_t>(i));
   for (int i = 100; i < 105; ++i) b.add(i, static_cast<std::uint64_t>(i));
+  for (int i = 104; i >= 0; --i) c.add(i, static_cast<std::uint64_t>(i));
   a.merge(b);
-  std::array<double, LargestValues::kCapacity> out{};
-  a.largest().sorted(out);
+  const std::vector<double> out = a.largest().sorted();
+  ASSERT_EQ(out.size(), 16u);
   EXPECT_EQ(out[0], 104.0);
   EXPECT_EQ(out[15], 89.0);
+  EXPECT_EQ(out, c.largest().sorted());
+}
+
+TEST(TallyEffectiveSamples, KishSizeAndNonzeroCount) {
+  Tally equal, one_peak;
+  for (int i = 0; i < 100; ++i) equal.add(i % 2 ? -3.0 : 3.0, static_cast<std::uint64_t>(i));
+  for (int i = 0; i < 100; ++i) one_peak.add(i == 7 ? 1e6 : 0.0, static_cast<std::uint64_t>(i));
+  EXPECT_DOUBLE_EQ(equal.effective_sample_size(), 100.0);
+  EXPECT_EQ(equal.nonzero_count(), 100u);
+  EXPECT_DOUBLE_EQ(one_peak.effective_sample_size(), 1.0);
+  EXPECT_EQ(one_peak.nonzero_count(), 1u);
 }
 
 }  // namespace
