@@ -35,6 +35,12 @@ Spread spread(const std::vector<ReplicateResult>& replicates) {
   return {tally.mean(), tally.variance()};
 }
 
+Spread spread(std::span<const double> values) {
+  Tally tally;
+  for (std::size_t r = 0; r < values.size(); ++r) tally.add(values[r], r);
+  return {tally.mean(), tally.variance()};
+}
+
 double t_quantile(double probability, double dof) {
   return boost::math::quantile(boost::math::students_t(dof), probability);
 }
@@ -46,6 +52,60 @@ double student_t_p_value(double t, double dof) {
   if (std::isinf(t)) return 0.0;
   return 2.0 *
          boost::math::cdf(boost::math::complement(boost::math::students_t(dof), std::fabs(t)));
+}
+
+TwoSampleTest welch_test(double mean_a, double variance_of_mean_a, double dof_a, double mean_b,
+                         double variance_of_mean_b, double dof_b) {
+  TwoSampleTest out;
+  out.mean_a = mean_a;
+  out.mean_b = mean_b;
+  out.stderr_a = std::sqrt(variance_of_mean_a);
+  out.stderr_b = std::sqrt(variance_of_mean_b);
+  const double variance = variance_of_mean_a + variance_of_mean_b;
+  out.stderr_of_difference = std::sqrt(variance);
+  const double difference = mean_a - mean_b;
+  if (variance == 0.0) {
+    // Neither side varies: the test is exact.
+    out.dof = dof_a + dof_b;
+    out.statistic = difference == 0.0
+                        ? 0.0
+                        : std::copysign(std::numeric_limits<double>::infinity(), difference);
+    out.p_value = difference == 0.0 ? 1.0 : 0.0;
+    return out;
+  }
+  // Welch–Satterthwaite.
+  out.dof = variance * variance /
+            (variance_of_mean_a * variance_of_mean_a / dof_a +
+             variance_of_mean_b * variance_of_mean_b / dof_b);
+  out.statistic = difference / out.stderr_of_difference;
+  out.p_value = student_t_p_value(out.statistic, out.dof);
+  return out;
+}
+
+TwoSampleTest welch_two_sample(std::span<const double> a, std::span<const double> b) {
+  const Spread sa = spread(a), sb = spread(b);
+  const double na = static_cast<double>(a.size()), nb = static_cast<double>(b.size());
+  return welch_test(sa.mean, sa.variance / na, na - 1.0, sb.mean, sb.variance / nb, nb - 1.0);
+}
+
+std::vector<double> holm_adjusted(std::span<const double> p_values) {
+  const std::size_t m = p_values.size();
+  std::vector<std::size_t> order(m);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t i, std::size_t j) { return p_values[i] < p_values[j]; });
+  std::vector<double> adjusted(m);
+  double running_max = 0.0;
+  for (std::size_t k = 0; k < m; ++k) {
+    running_max =
+        std::max(running_max, std::min(1.0, p_values[order[k]] * static_cast<double>(m - k)));
+    adjusted[order[k]] = running_max;
+  }
+  return adjusted;
+}
+
+double detectable_multiplier(double share, double dof) {
+  return t_quantile(1.0 - share / 2.0, dof) + t_quantile(kPower, dof);
 }
 
 Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Reference& reference,
@@ -151,21 +211,25 @@ Verdict test_against_reference(const std::vector<ReplicateResult>& replicates,
   const double se2 = s.variance / count;
   const double bias = s.mean - reference.value;
   v.tested = true;
-  if (reference.uncertainty > 0.0) {
-    // Welch: the reference carries its own standard error; Welch–Satterthwaite dof.
-    const double u2 = reference.uncertainty * reference.uncertainty;
-    v.test = "welch";
-    v.dof = (se2 + u2) * (se2 + u2) / (se2 * se2 / (count - 1.0) + u2 * u2 / reference.dof);
-    v.test_stderr = std::sqrt(se2 + u2);
-  } else {
-    v.test = "student_t";
-    v.dof = count - 1.0;
-    v.test_stderr = std::sqrt(se2);
-  }
-  v.statistic = bias / v.test_stderr;
   v.reference_value = reference.value;
   v.mean_abs = mean_abs_of(replicates, reference);
-  if (se2 == 0.0 && reference.uncertainty == 0.0) {
+  if (reference.uncertainty > 0.0) {
+    // Welch: the reference carries its own standard error, with its own dof.
+    const TwoSampleTest welch =
+        welch_test(s.mean, se2, count - 1.0, reference.value,
+                   reference.uncertainty * reference.uncertainty, reference.dof);
+    v.test = "welch";
+    v.dof = welch.dof;
+    v.test_stderr = welch.stderr_of_difference;
+    v.statistic = welch.statistic;
+    v.p_value = welch.p_value;
+    return v;
+  }
+  v.test = "student_t";
+  v.dof = count - 1.0;
+  v.test_stderr = std::sqrt(se2);
+  v.statistic = bias / v.test_stderr;
+  if (se2 == 0.0) {
     // Every replicate gave the same number: the test is exact.
     v.statistic = bias == 0.0 ? 0.0 : std::copysign(std::numeric_limits<double>::infinity(), bias);
     v.p_value = bias == 0.0 ? 1.0 : 0.0;
@@ -183,14 +247,12 @@ void decide_family(std::vector<Verdict*>& verdicts, double alpha) {
     if (v->tested) tested.push_back(v);
   }
   const std::size_t m = tested.size();
-  std::stable_sort(tested.begin(), tested.end(),
-                   [](const Verdict* a, const Verdict* b) { return a->p_value < b->p_value; });
-  // Holm's step-down adjusted p-values: max over j <= i of min(1, (m - j + 1) p_(j)).
-  double running_max = 0.0;
+  std::vector<double> p_values;
+  for (const Verdict* v : tested) p_values.push_back(v->p_value);
+  const std::vector<double> adjusted = holm_adjusted(p_values);
   for (std::size_t i = 0; i < m; ++i) {
     Verdict& v = *tested[i];
-    running_max = std::max(running_max, std::min(1.0, v.p_value * static_cast<double>(m - i)));
-    v.p_adjusted = running_max;
+    v.p_adjusted = adjusted[i];
     const bool reject = v.p_adjusted <= alpha;
     v.result = reject ? "biased" : "consistent";
     v.reason = reject ? fmt::format(
@@ -204,8 +266,7 @@ void decide_family(std::vector<Verdict*>& verdicts, double alpha) {
     // The bias a two-sided test at the Bonferroni share alpha / m detects with 80% power
     // (normal-theory approximation with Student quantiles).
     const double share = alpha / static_cast<double>(m);
-    const double multiplier = t_quantile(1.0 - share / 2.0, v.dof) + t_quantile(kPower, v.dof);
-    v.min_detectable_bias = multiplier * v.test_stderr;
+    v.min_detectable_bias = detectable_multiplier(share, v.dof) * v.test_stderr;
     v.min_detectable_bias_vs_mean_abs = v.min_detectable_bias / v.mean_abs;
     v.min_detectable_rel_bias =
         v.reference_value != 0.0 ? v.min_detectable_bias / std::fabs(v.reference_value) : kNaN;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -99,5 +100,35 @@ void decide_family(std::vector<Verdict*>& verdicts, double alpha);
 
 // Two-sided p-value of Student's t with `dof` degrees of freedom.
 double student_t_p_value(double t, double dof);
+
+// Welch's test of equal means of two independent estimates, each given by its mean, the variance
+// of that mean (its squared standard error) and the degrees of freedom of that variance
+// (infinity for a value whose uncertainty is known exactly).
+struct TwoSampleTest {
+  double statistic = 0.0;  // (mean_a - mean_b) / stderr_of_difference; ±inf if it is 0
+  double dof = 0.0;        // Welch–Satterthwaite
+  double p_value = 1.0;    // two-sided
+  double mean_a = 0.0;
+  double mean_b = 0.0;
+  double stderr_a = 0.0;  // standard error of mean_a
+  double stderr_b = 0.0;
+  double stderr_of_difference = 0.0;  // sqrt(stderr_a² + stderr_b²)
+};
+TwoSampleTest welch_test(double mean_a, double variance_of_mean_a, double dof_a, double mean_b,
+                         double variance_of_mean_b, double dof_b);
+
+// Welch's two-sample t-test on two sets of independent replicate estimates (each of size >= 2;
+// NaN figures otherwise). When neither sample varies the test is exact: p = 1 for equal means,
+// 0 otherwise, and dof is (n_a - 1) + (n_b - 1).
+TwoSampleTest welch_two_sample(std::span<const double> a, std::span<const double> b);
+
+// Holm's step-down adjusted p-values, in the order of `p_values`:
+// p_adj(i) = max over j <= i of min(1, (m - j + 1) p_(j)) with p_(1) <= ... <= p_(m).
+std::vector<double> holm_adjusted(std::span<const double> p_values);
+
+// t_{1 - share/2, dof} + t_{power, dof}: times a test's standard error, the smallest difference a
+// two-sided test at level `share` detects with probability kPower (normal-theory approximation
+// with Student quantiles).
+double detectable_multiplier(double share, double dof);
 
 }  // namespace pcbench

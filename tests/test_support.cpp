@@ -62,4 +62,34 @@ std::string read_text(const std::filesystem::path& file) {
   return text.str();
 }
 
+void write_text(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out << text;
+  out.flush();
+  if (!out) throw std::runtime_error("cannot write " + file.string());
+}
+
+nlohmann::json small_report(const std::vector<nlohmann::json>& runs, std::uint64_t seed) {
+  return {{"schema_version", 1},
+          {"suite", "test"},
+          {"context", {{"seed", seed}, {"threads", 1}, {"git_commit", "unknown"}}},
+          {"runs", runs},
+          {"comparisons", nlohmann::json::array()}};
+}
+
+nlohmann::json small_report_run(const std::string& id, const std::vector<double>& estimates,
+                                const std::string& status, const std::string& estimator,
+                                const std::string& integrand) {
+  nlohmann::json replicates = nlohmann::json::array();
+  for (double e : estimates) replicates.push_back({{"estimate", e}, {"n", 1000}, {"nonfinite", 0}});
+  return {{"id", id},
+          {"estimator", estimator},
+          {"integrand", integrand},
+          {"params", nlohmann::json::object()},
+          {"status", status},
+          {"error", status == "ok" ? nlohmann::json(nullptr) : nlohmann::json("it failed")},
+          {"samples", 1000},
+          {"replicates", replicates}};
+}
+
 }  // namespace pcbench

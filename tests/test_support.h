@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -36,5 +37,18 @@ class TemporaryFolder {
 std::vector<std::string> files_under(const std::filesystem::path& folder);
 
 std::string read_text(const std::filesystem::path& file);
+
+// Writes `text` to `file` as it is (binary), replacing it; throws if it cannot.
+void write_text(const std::filesystem::path& file, const std::string& text);
+
+// A small pcbench report (schema_version 1, context.seed = `seed`) holding `runs`.
+nlohmann::json small_report(const std::vector<nlohmann::json>& runs, std::uint64_t seed = 1);
+
+// One run of such a report: id, estimator, integrand, status, and replicates[].estimate =
+// `estimates`.
+nlohmann::json small_report_run(const std::string& id, const std::vector<double>& estimates,
+                                const std::string& status = "ok",
+                                const std::string& estimator = "plain",
+                                const std::string& integrand = "genz-gaussian");
 
 }  // namespace pcbench

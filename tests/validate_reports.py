@@ -505,6 +505,11 @@ def main():
                                        "test": "welch", "statistic": 0.1, "p_value": 0.9,
                                        "p_adjusted": 1.0, "alpha": 0.01,
                                        "result": "consistent"}]))
+    rejected(a, "a comparison with a negative stderr_a",
+             assign(["comparisons"], [{"a": "0123456789abcdef", "b": "0123456789abcdef",
+                                       "test": "welch", "statistic": 0.1, "p_value": 0.9,
+                                       "p_adjusted": 1.0, "alpha": 0.01, "result": "consistent",
+                                       "expect": "consistent", "stderr_a": -1.0}]))
     rejected(c, "reference kind none with a value",
              assign(["runs", 0, "reference", "value"], 0.25))
     rejected(c, 'verdict test "none" with result consistent',
@@ -518,7 +523,11 @@ def main():
         good["comparisons"] = [{"a": good["runs"][0]["id"], "b": "fedcba9876543210",
                                 "test": "welch", "statistic": 0.1, "p_value": 0.9,
                                 "p_adjusted": 1.0, "alpha": 0.01, "result": "consistent",
-                                "expect": "consistent"}]
+                                "expect": "consistent", "estimator": "plain",
+                                "integrand": "genz-gaussian", "dof": 60.2, "reason": "r",
+                                "mean_a": 0.5, "mean_b": 0.51, "stderr_a": 0.01,
+                                "stderr_b": None, "replicates_a": 32, "replicates_b": 32,
+                                "min_detectable_difference": 0.04}]
         good["runs"][0]["image"] = {"width": 4, "height": 3,
                                     "files": {"mean": "mean.exr", "stderr": "stderr.exr",
                                               "zmap": "zmap.exr", "reference": None},
