@@ -10,7 +10,9 @@
 #include <limits>
 #include <ostream>
 
+#include "harness/compare_command.h"
 #include "harness/errors.h"
+#include "harness/external_verify.h"
 #include "harness/list_command.h"
 #include "harness/plan.h"
 #include "harness/session.h"
@@ -35,6 +37,7 @@ struct RunArguments {
   bool verify = false;
   double alpha = kDefaultAlpha;
   bool exact = false;
+  ExternalRequest external;
 };
 
 // Numbers and choices never contain commas, so for them a comma separates grid values.
@@ -127,9 +130,55 @@ std::vector<GridRequest> grids_from_flags(const RunArguments& args) {
   return {grid};
 }
 
+// Checks --out and creates the folder now, so that a report that cannot be written fails before
+// any run, not after. (The input is valid by then: creating it writes nothing half-done.)
+void prepare_out_dir(const std::string& out_dir, bool given) {
+  if (given && out_dir.empty()) throw InputError("command line: --out is empty; give a folder");
+  if (out_dir.empty()) return;
+  if (std::filesystem::exists(out_dir) && !std::filesystem::is_directory(out_dir)) {
+    throw InputError(fmt::format("command line: --out '{}' exists and is not a folder", out_dir));
+  }
+  std::error_code error;
+  std::filesystem::create_directories(out_dir, error);
+  if (error) {
+    throw InputError(
+        fmt::format("command line: --out '{}' cannot be created: {}", out_dir, error.message()));
+  }
+}
+
+// Threads, output, argv and the interrupt flag, as every command that writes a report uses them.
+SessionOptions session_options(const RunArguments& args, const std::vector<std::string>& argv,
+                               const std::atomic<bool>* interrupted) {
+  SessionOptions session;
+  session.seed = args.seed;
+  session.threads =
+      args.threads > 0 ? args.threads : static_cast<unsigned>(tbb::info::default_concurrency());
+  session.quiet = args.quiet;
+  session.argv = argv;
+  session.interrupted = interrupted;
+  session.alpha = args.alpha;
+  if (!args.out_dir.empty()) session.out_dir = args.out_dir;
+  return session;
+}
+
 int run_command(const RunArguments& args, const CLI::App& run_app,
                 const std::vector<std::string>& argv, std::ostream& out, std::ostream& err,
                 const std::atomic<bool>* interrupted) {
+  if (!args.external.estimates.empty()) {
+    const bool selection = !args.estimators.empty() || !args.integrands.empty() ||
+                           !args.params.empty() || !args.suite_path.empty() || args.exact;
+    if (selection) {
+      throw InputError(
+          "command line: --estimates verifies a file of estimates; it takes no suite, "
+          "--estimator, --integrand, --param or --exact");
+    }
+    prepare_out_dir(args.out_dir, run_app.count("--out") > 0);
+    return run_external_verification(args.external, session_options(args, argv, interrupted), out,
+                                     err);
+  }
+  if (args.external.reference || args.external.against || args.external.run_id) {
+    throw InputError("command line: --reference, --against and --run-id go with --estimates FILE");
+  }
   const bool one_run = !args.estimators.empty() || !args.integrands.empty() || !args.params.empty();
   if (one_run && !args.suite_path.empty()) {
     throw InputError("command line: give a suite file or --estimator/--integrand, not both");
@@ -140,8 +189,7 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
 
   std::vector<GridRequest> grids;
   BudgetDefaults budget;
-  SessionOptions session;
-  session.seed = args.seed;
+  SessionOptions session = session_options(args, argv, interrupted);
   if (!args.suite_path.empty()) {
     SuiteRequest suite = load_suite(args.suite_path);
     grids = std::move(suite.grids);
@@ -157,34 +205,22 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
   if (run_app.count("--replicates")) budget.forced_replicates = args.replicates;
 
   const std::vector<RunPlan> plans = plan_runs(grids, budget);
-  if (run_app.count("--out") && args.out_dir.empty()) {
-    throw InputError("command line: --out is empty; give a folder");
-  }
-  if (!args.out_dir.empty()) {
-    if (std::filesystem::exists(args.out_dir) && !std::filesystem::is_directory(args.out_dir)) {
-      throw InputError(
-          fmt::format("command line: --out '{}' exists and is not a folder", args.out_dir));
-    }
-    // Make the folder now, so that a report that cannot be written fails before the runs, not
-    // after them. (The input is valid by now: creating it writes nothing half-done.)
-    std::error_code error;
-    std::filesystem::create_directories(args.out_dir, error);
-    if (error) {
-      throw InputError(fmt::format("command line: --out '{}' cannot be created: {}", args.out_dir,
-                                   error.message()));
-    }
-  }
+  prepare_out_dir(args.out_dir, run_app.count("--out") > 0);
 
-  session.threads =
-      args.threads > 0 ? args.threads : static_cast<unsigned>(tbb::info::default_concurrency());
-  session.quiet = args.quiet;
-  session.argv = argv;
-  session.interrupted = interrupted;
-  session.alpha = args.alpha;
-  if (!args.out_dir.empty()) session.out_dir = args.out_dir;
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
   if (args.exact) return run_exact_session(plans, session, out, err);
   return run_session(plans, session, out, err);
+}
+
+// A family-wise alpha: strictly between 0 and 1.
+CLI::Validator alpha_check() {
+  return CLI::Range(0.0, 1.0) &
+         CLI::Validator(
+             [](std::string& text) {
+               const double a = std::stod(text);
+               return a > 0.0 && a < 1.0 ? std::string() : std::string("alpha must be in (0, 1)");
+             },
+             "in (0, 1)");
 }
 
 // The selection and budget options `run` and `verify` share.
@@ -235,16 +271,30 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       "declared integrand)");
   add_run_options(verify, verify_args);
   verify->add_option("--alpha", verify_args.alpha, "family-wise false-alarm rate (default 0.01)")
-      ->check(CLI::Range(0.0, 1.0) & CLI::Validator(
-                                         [](std::string& text) {
-                                           const double a = std::stod(text);
-                                           return a > 0.0 && a < 1.0
-                                                      ? std::string()
-                                                      : std::string("alpha must be in (0, 1)");
-                                         },
-                                         "in (0, 1)"));
+      ->check(alpha_check());
   verify->add_flag("--exact", verify_args.exact,
                    "enumerate the resampling step exactly (M <= 6, K <= 3) instead of sampling");
+  verify->add_option("--estimates", verify_args.external.estimates,
+                     "replicate estimates from any renderer (.csv, .txt, .json or a report)");
+  verify->add_option("--run-id", verify_args.external.run_id,
+                     "the run to take from a pcbench report given to --estimates");
+  verify->add_option("--reference", verify_args.external.reference,
+                     "with --estimates: the value to test against, V or V±U (also V+-U)");
+  verify->add_option("--against", verify_args.external.against,
+                     "with --estimates: a second estimates file, tested two-sample (Welch)");
+
+  std::vector<std::string> compare_reports_paths;
+  RunArguments compare_args;
+  CLI::App* compare = app.add_subcommand(
+      "compare", "two-sample tests between the runs with the same id in two reports");
+  compare->add_option("reports", compare_reports_paths, "report A and report B")
+      ->required()
+      ->expected(2);
+  compare->add_option("--alpha", compare_args.alpha, "family-wise false-alarm rate (default 0.01)")
+      ->check(alpha_check());
+  compare->add_option("--out,-o", compare_args.out_dir,
+                      "output folder (default results/runs/<date-time>/)");
+  compare->add_flag("--quiet,-q", compare_args.quiet, "no table");
 
   // CLI11 would say "A subcommand is required" without naming the subcommands.
   std::vector<std::string> commands;
@@ -276,6 +326,11 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       return kExitOk;
     }
     if (verify->parsed()) return run_command(verify_args, *verify, argv, out, err, interrupted);
+    if (compare->parsed()) {
+      prepare_out_dir(compare_args.out_dir, compare->count("--out") > 0);
+      return run_compare_command(compare_reports_paths[0], compare_reports_paths[1],
+                                 session_options(compare_args, argv, interrupted), out, err);
+    }
     return run_command(run_args, *run, argv, out, err, interrupted);
   } catch (const InputError& e) {
     err << "pcbench: error: " << e.what() << "\n";

@@ -25,10 +25,10 @@ struct ReplicateResult {
   double mean_abs = 0.0;  // the estimator's estimate of ∫∫ |f|
   std::uint64_t n = 0;
   std::uint64_t nonfinite = 0;
-  std::optional<std::uint64_t> first_nonfinite_sample;
+  std::optional<std::uint64_t> first_nonfinite_sample = {};
   double seconds = 0.0;               // wall time of this replicate's chunks, summed
   double cpu_seconds = 0.0;           // thread CPU time of this replicate's chunks, summed
-  std::vector<double> largest;        // the largest |per-sample estimates| (as many as the tail fit
+  std::vector<double> largest = {};   // the largest |per-sample estimates| (as many as the tail fit
                                       // uses: harness/diagnostics.h), largest first
   std::uint64_t nonzero = 0;          // finite samples != 0
   double effective_samples = 0.0;     // Kish's (Σ |x|)² / Σ x² over the finite samples

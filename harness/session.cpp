@@ -72,11 +72,10 @@ Verdict verdict_for(const RunPlan& plan, const RunResult& result,
   return test_against_reference(result.replicates, result.reference, expect);
 }
 
-// Writes the report atomically into the run folder and points results/latest at a default
-// folder. Returns the report's path, or nothing (with the error on `err`) when it cannot be
-// written.
-std::optional<fs::path> publish(const std::string& report, const SessionOptions& options,
-                                std::ostream& err) {
+}  // namespace
+
+std::optional<fs::path> publish_report(const std::string& report, const SessionOptions& options,
+                                       std::ostream& err) {
   const bool default_folder = !options.out_dir.has_value();
   const fs::path folder = default_folder ? default_run_folder() : fs::path(*options.out_dir);
   const fs::path report_path = folder / "report.json";
@@ -98,8 +97,6 @@ std::optional<fs::path> publish(const std::string& report, const SessionOptions&
   return report_path;
 }
 
-}  // namespace
-
 int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& options,
                       std::ostream& out, std::ostream& err) {
   ReportSections sections;
@@ -119,9 +116,9 @@ int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& o
     sections.exact_checks.push_back(std::move(record));
   }
   const std::optional<fs::path> report_path =
-      publish(report_json(gather_context(options.argv, options.seed, options.threads),
-                          options.suite_name, {}, sections),
-              options, err);
+      publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
+                                 options.suite_name, {}, sections),
+                     options, err);
   if (!report_path) return kExitRunFailed;
   out << "report: " << report_path->string() << "\n";
   return differs ? kExitVerdictDiffers : kExitOk;
@@ -165,9 +162,9 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   decide_family(family, options.alpha);
 
   const std::optional<fs::path> report_path =
-      publish(report_json(gather_context(options.argv, options.seed, options.threads),
-                          options.suite_name, records),
-              options, err);
+      publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
+                                 options.suite_name, records),
+                     options, err);
   if (!options.quiet) print_summary(records, out);
   if (!report_path) return kExitRunFailed;
   out << "report: " << report_path->string() << "\n";

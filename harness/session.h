@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <filesystem>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -33,6 +34,13 @@ struct SessionOptions {
   std::vector<std::string> argv;
   const std::atomic<bool>* interrupted = nullptr;
 };
+
+// Writes `report` atomically as report.json in the run folder (options.out_dir, or a new
+// results/runs/<date-time>/ linked as results/latest). Returns its path, or nothing after
+// writing the reason to `err`.
+std::optional<std::filesystem::path> publish_report(const std::string& report,
+                                                    const SessionOptions& options,
+                                                    std::ostream& err);
 
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err);

@@ -238,7 +238,13 @@ std::string report_json(const Context& context, const std::string& suite_name,
     report["exact_checks"] = checks;
   }
   if (sections.calibration) report["calibration"] = *sections.calibration;
+  if (!sections.external.empty()) report["external"] = sections.external;
   return report.dump(2) + "\n";
+}
+
+nlohmann::json verdict_to_json(const Verdict& verdict) {
+  NumberWriter numbers;
+  return verdict_json(verdict, numbers);
 }
 
 void write_file_atomically(const std::filesystem::path& path, const std::string& text) {

@@ -42,10 +42,14 @@ struct ReportSections {
   nlohmann::json comparisons = nlohmann::json::array();  // already in the schema's form
   std::vector<ExactRecord> exact_checks = {};
   std::optional<nlohmann::json> calibration = {};
+  nlohmann::json external = nlohmann::json::array();  // verify --estimates, in the schema's form
 };
 
 std::string report_json(const Context& context, const std::string& suite_name,
                         const std::vector<RunRecord>& runs, const ReportSections& sections = {});
+
+// A verdict in the report's form (non-finite figures written as null).
+nlohmann::json verdict_to_json(const Verdict& verdict);
 
 // Writes `text` to `path` atomically (temporary file + rename), creating parent folders.
 void write_file_atomically(const std::filesystem::path& path, const std::string& text);

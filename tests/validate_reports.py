@@ -209,7 +209,9 @@ def semantic_problems(report, exit_status=None):
                 problems.append("%s: first_nonfinite.sample out of range" % where)
         if verdict is not None and aggregates is None:
             problems.append("%s: a verdict without aggregates" % where)
-    for c in report["comparisons"]:
+    # A suite's comparisons pair its own runs; `pcbench compare` pairs runs of two other reports
+    # and writes no runs of its own.
+    for c in report["comparisons"] if report["runs"] else []:
         for key in ("a", "b"):
             if c[key] not in ids:
                 problems.append("comparison %s-%s: %s is not a run id" % (c["a"], c["b"], key))
@@ -226,6 +228,7 @@ def expected_exit_status(report):
     if any(r["status"] == "not_run" for r in runs):
         return 130
     outcomes = [r["verdict"] for r in runs if r["verdict"] is not None] + report["comparisons"]
+    outcomes += report.get("exact_checks", []) + [e["verdict"] for e in report.get("external", [])]
     if any(o["result"] != o["expect"] for o in outcomes):
         return 1
     if any(r["status"] in ("error", "invalid") for r in runs):
@@ -292,6 +295,10 @@ def main():
 
     reports = {}
     with tempfile.TemporaryDirectory(prefix="pcbench-schema-") as tmp:
+        estimates_path = os.path.join(tmp, "estimates.csv")
+        with open(estimates_path, "w", encoding="utf-8") as f:
+            f.write("estimate\n" + "\n".join("%.6f" % (0.5 + 0.01 * ((i * 37) % 11 - 5) / 5)
+                                               for i in range(20)) + "\n")
         suite_path = os.path.join(tmp, "suite.json")
         with open(suite_path, "w", encoding="utf-8") as f:
             json.dump(suite, f, indent=2)
@@ -311,6 +318,16 @@ def main():
             # and named in nonfinite_fields; the verdict is biased against expectation: exit 1.
             ("g-constant-biased", ["run", "-e", "plain", "-i", "expr", "-p", "f=1", "-p",
                                    "exact=2", "-n", "100", "-r", "3"], 1, False),
+            # The verifier's report shapes: exact checks, a negative control on its declared
+            # workload (flagged: exit 0), replicate estimates from a file, and a comparison.
+            ("h-verify-exact", ["verify", "--exact", "-e", "ctl-wrong-count,pcbpt", "-i",
+                                "form-factor"], 0, False),
+            ("i-verify-control", ["verify", "-e", "ctl-wrong-count", "-n", "20000", "-r", "8"],
+             0, False),
+            ("j-verify-estimates", ["verify", "--estimates", estimates_path, "--reference",
+                                    "0.5+-0.001"], 0, False),
+            ("k-compare", ["compare", os.path.join(tmp, "a-one-run", "report.json"),
+                           os.path.join(tmp, "d-cli-grid", "report.json")], 0, False),
             # Interrupted during the first of two long runs: both not_run, exit 130.
             ("f-interrupted", ["run", "-e", "plain", "-i", "genz-gaussian,genz-oscillatory",
                                "-n", "100000000", "-r", "8"], 130, True),
