@@ -19,6 +19,7 @@
 #include "harness/plan.h"
 #include "harness/runner.h"
 #include "harness/statistics.h"
+#include "results/report.h"
 
 namespace pcbench {
 namespace {
@@ -385,6 +386,21 @@ void print_calibration(const CalibrationResult& result, std::ostream& out) {
                        fmt::format("[{:.3f}, {:.3f}]", p.wilson_low, p.wilson_high),
                        p.predicted_power, p.predicted_power_normal);
   }
+}
+
+int run_calibration(const CalibrationOptions& options, const SessionOptions& session,
+                    std::ostream& out, std::ostream& err) {
+  const CalibrationResult result = calibrate(options);
+  if (!session.quiet) print_calibration(result, out);
+  ReportSections sections;
+  sections.calibration = nlohmann::json(calibration_json(result));
+  const auto report_path =
+      publish_report(report_json(gather_context(session.argv, options.first_seed, session.threads),
+                                 "calibration", {}, sections),
+                     session, err);
+  if (!report_path) return kExitRunFailed;
+  out << "report: " << report_path->string() << "\n";
+  return result.pass ? kExitOk : kExitVerdictDiffers;
 }
 
 }  // namespace pcbench

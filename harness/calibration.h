@@ -24,6 +24,7 @@
 
 #include "harness/diagnostics.h"
 #include "harness/params.h"
+#include "harness/session.h"
 
 namespace pcbench {
 
@@ -131,5 +132,10 @@ struct ProportionInterval {
 };
 ProportionInterval wilson_interval(std::uint64_t successes, std::uint64_t trials,
                                    double confidence);
+
+// `pcbench calibrate`: runs calibrate(), prints it, writes a report whose `calibration` holds
+// it. Exit 0 when it passes, 1 when it does not.
+int run_calibration(const CalibrationOptions& options, const SessionOptions& session,
+                    std::ostream& out, std::ostream& err);
 
 }  // namespace pcbench

@@ -10,6 +10,7 @@
 #include <limits>
 #include <ostream>
 
+#include "harness/calibration.h"
 #include "harness/compare_command.h"
 #include "harness/errors.h"
 #include "harness/external_verify.h"
@@ -283,6 +284,27 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   verify->add_option("--against", verify_args.external.against,
                      "with --estimates: a second estimates file, tested two-sample (Welch)");
 
+  CalibrationOptions calibration;
+  RunArguments calibrate_args;
+  CLI::App* calibrate_app = app.add_subcommand(
+      "calibrate",
+      "the verifier's self-test: p-values of unbiased estimators over many seeds are uniform, "
+      "false alarms match alpha, and the power curve follows its prediction");
+  calibrate_app
+      ->add_option("--estimator,-e", calibration.estimators, "unbiased estimators to calibrate")
+      ->delimiter(',');
+  calibrate_app->add_option("--integrand,-i", calibration.integrand, "integrand (exact reference)");
+  calibrate_app->add_option("--samples,-n", calibration.samples, "samples per replicate")
+      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
+  calibrate_app->add_option("--replicates,-r", calibration.replicates, "replicates per run")
+      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
+  calibrate_app->add_option("--seeds", calibration.seeds, "seeds (runs) per estimator")
+      ->check(CLI::Range(std::uint32_t{20}, std::uint32_t{1000000}));
+  calibrate_app->add_option("--seed,-s", calibration.first_seed, "first seed");
+  calibrate_app->add_option("--out,-o", calibrate_args.out_dir,
+                            "output folder (default results/runs/<date-time>/)");
+  calibrate_app->add_flag("--quiet,-q", calibrate_args.quiet, "no table");
+
   std::vector<std::string> compare_reports_paths;
   RunArguments compare_args;
   CLI::App* compare = app.add_subcommand(
@@ -326,6 +348,11 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       return kExitOk;
     }
     if (verify->parsed()) return run_command(verify_args, *verify, argv, out, err, interrupted);
+    if (calibrate_app->parsed()) {
+      prepare_out_dir(calibrate_args.out_dir, calibrate_app->count("--out") > 0);
+      return run_calibration(calibration, session_options(calibrate_args, argv, interrupted), out,
+                             err);
+    }
     if (compare->parsed()) {
       prepare_out_dir(compare_args.out_dir, compare->count("--out") > 0);
       return run_compare_command(compare_reports_paths[0], compare_reports_paths[1],

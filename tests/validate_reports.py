@@ -328,6 +328,8 @@ def main():
                                     "0.5+-0.001"], 0, False),
             ("k-compare", ["compare", os.path.join(tmp, "a-one-run", "report.json"),
                            os.path.join(tmp, "d-cli-grid", "report.json")], 0, False),
+            ("l-calibrate", ["calibrate", "-e", "plain", "--seeds", "50", "-n", "200", "-r", "4"],
+             0, False),
             # Interrupted during the first of two long runs: both not_run, exit 130.
             ("f-interrupted", ["run", "-e", "plain", "-i", "genz-gaussian,genz-oscillatory",
                                "-n", "100000000", "-r", "8"], 130, True),
