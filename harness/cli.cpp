@@ -158,6 +158,7 @@ SessionOptions session_options(const RunArguments& args, const std::vector<std::
   session.argv = argv;
   session.interrupted = interrupted;
   session.alpha = args.alpha;
+  session.escalate = args.verify;
   if (!args.out_dir.empty()) session.out_dir = args.out_dir;
   return session;
 }
@@ -198,6 +199,7 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     if (suite.samples) budget.samples = *suite.samples;
     if (suite.replicates) budget.replicates = *suite.replicates;
     if (suite.seed && run_app.count("--seed") == 0) session.seed = *suite.seed;
+    session.compare_pairwise = suite.compare_pairwise;
   } else {
     grids = grids_from_flags(args);
   }
@@ -215,13 +217,20 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
 
 // A family-wise alpha: strictly between 0 and 1.
 CLI::Validator alpha_check() {
-  return CLI::Range(0.0, 1.0) &
-         CLI::Validator(
-             [](std::string& text) {
-               const double a = std::stod(text);
-               return a > 0.0 && a < 1.0 ? std::string() : std::string("alpha must be in (0, 1)");
-             },
-             "in (0, 1)");
+  return CLI::Validator(
+      [](std::string& text) {
+        double a = 0.0;
+        std::size_t used = 0;
+        try {
+          a = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != text.size() || used == 0)
+          return std::string("alpha must be a number in (0, 1)");
+        return a > 0.0 && a < 1.0 ? std::string() : std::string("alpha must be in (0, 1)");
+      },
+      "in (0, 1)");
 }
 
 // The selection and budget options `run` and `verify` share.

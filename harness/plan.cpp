@@ -107,6 +107,22 @@ std::uint64_t run_id_hash(const std::string& estimator, const std::string& integ
   return fnv1a(hash, fmt::format("replicates={}", replicates));
 }
 
+void assign_id(RunPlan& plan) {
+  std::map<std::string, std::string> effective;
+  for (const auto& [key, value] : plan.estimator_params.values()) effective[key] = to_text(value);
+  for (const auto& [key, value] : plan.integrand_params.values()) effective[key] = to_text(value);
+  plan.id_hash = run_id_hash(plan.estimator->name, plan.integrand->name, effective, plan.samples,
+                             plan.replicates);
+  plan.id = fmt::format("{:016x}", plan.id_hash);
+}
+
+RunPlan with_samples(const RunPlan& plan, std::uint64_t samples) {
+  RunPlan next = plan;
+  next.samples = samples;
+  assign_id(next);
+  return next;
+}
+
 std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
                                const BudgetDefaults& budget) {
   std::vector<RunPlan> plans;
@@ -152,13 +168,7 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
       }
       plan.expect = grid.expect;
 
-      std::map<std::string, std::string> effective;
-      for (const auto& [key, value] : plan.estimator_params.values())
-        effective[key] = to_text(value);
-      for (const auto& [key, value] : plan.integrand_params.values())
-        effective[key] = to_text(value);
-      plan.id_hash = run_id_hash(row.estimator->name, row.integrand->name, effective, plan.samples,
-                                 plan.replicates);
+      assign_id(plan);
       // Identical rows collapse into one; the same run expected to give two different verdicts
       // is a contradiction in the suite, not something to settle by row order.
       const auto [it, inserted] = seen.emplace(plan.id_hash, SeenRow{plan.expect, grid.where});
@@ -171,7 +181,6 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
         }
         continue;
       }
-      plan.id = fmt::format("{:016x}", plan.id_hash);
 
       const std::string where =
           fmt::format("{}: {} × {}", grid.where, row.estimator->name, row.integrand->name);

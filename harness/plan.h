@@ -65,6 +65,12 @@ struct RunPlan {
 // first occurrence stays). Throws InputError on the first bad input.
 std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids, const BudgetDefaults& budget);
 
+// Sets plan.id_hash and plan.id from its estimator, integrand, effective params and budget.
+void assign_id(RunPlan& plan);
+
+// The same run with another budget: a new id, so new random numbers (sequential escalation).
+RunPlan with_samples(const RunPlan& plan, std::uint64_t samples);
+
 // The id of a run: a hash of estimator, integrand, effective params, samples and replicates.
 std::uint64_t run_id_hash(const std::string& estimator, const std::string& integrand,
                           const std::map<std::string, std::string>& effective_params,

@@ -6,12 +6,14 @@
 #include <array>
 #include <chrono>
 #include <ctime>
+#include <deque>
 #include <filesystem>
 #include <ostream>
 #include <stdexcept>
 
 #include <unistd.h>
 
+#include "harness/report_compare.h"
 #include "harness/statistics.h"
 #include "harness/summary.h"
 #include "results/report.h"
@@ -124,46 +126,160 @@ int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& o
   return differs ? kExitVerdictDiffers : kExitOk;
 }
 
+namespace {
+
+// Runs one plan and tests it alone (the family's correction comes later).
+RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, bool& interrupted,
+                           std::ostream& err) {
+  RunRecord record;
+  record.plan = &plan;
+  if (options.interrupted != nullptr && options.interrupted->load()) interrupted = true;
+  if (interrupted) {
+    record.result.status = RunStatus::kNotRun;
+    record.result.reference = plan.made_integrand->reference();
+    record.result.error = "interrupted before the run started";
+    return record;
+  }
+  if (!options.quiet) {
+    err << fmt::format("running {} × {} ({} samples × {} replicates)\n", plan.estimator->name,
+                       plan.integrand->name, plan.samples, plan.replicates);
+  }
+  record.result = execute_run(plan, {.seed = options.seed, .interrupted = options.interrupted});
+  if (record.result.status == RunStatus::kNotRun) interrupted = true;
+  if (record.result.status == RunStatus::kOk) {
+    record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
+    record.diagnostics = diagnose_samples(record.result.replicates);
+    record.verdict = verdict_for(plan, record.result, record.diagnostics);
+  } else if (record.result.status == RunStatus::kInvalid) {
+    record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
+  }
+  return record;
+}
+
+// Worth more samples: a test that was not rejected but came close, or a run that had too few
+// effective samples to be tested (a heavy tail stays heavy with more samples: not escalated).
+bool wants_escalation(const RunRecord& record) {
+  if (!record.verdict || record.plan->samples * kEscalationFactor > kMaxSamples) return false;
+  const Verdict& v = *record.verdict;
+  if (v.tested) {
+    return v.result == "consistent" && v.p_adjusted <= kBorderlineFactor * v.alpha;
+  }
+  return record.result.reference.kind != ReferenceKind::kNone &&
+         record.diagnostics.min_effective_samples < kMinEffectiveSamples;
+}
+
+// Two-sample Welch tests between every pair of finished runs on the same integrand with the same
+// integrand parameters. A pair of two runs expected consistent is expected not to differ; a pair
+// of one consistent and one biased run is expected to differ; other pairs are not compared.
+std::vector<std::pair<Comparison, Verdict>> pairwise_comparisons(
+    const std::vector<RunRecord>& records) {
+  std::vector<std::pair<Comparison, Verdict>> out;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    for (std::size_t j = i + 1; j < records.size(); ++j) {
+      const RunRecord& a = records[i];
+      const RunRecord& b = records[j];
+      if (!a.verdict || !b.verdict || a.plan->integrand != b.plan->integrand ||
+          a.plan->integrand_params.values() != b.plan->integrand_params.values()) {
+        continue;
+      }
+      const int biased = (a.verdict->expect == "biased") + (b.verdict->expect == "biased");
+      const int consistent =
+          (a.verdict->expect == "consistent") + (b.verdict->expect == "consistent");
+      if (consistent + biased != 2 || biased == 2) continue;
+      std::vector<double> xa, xb;
+      for (const ReplicateResult& r : a.result.replicates) xa.push_back(r.estimate);
+      for (const ReplicateResult& r : b.result.replicates) xb.push_back(r.estimate);
+      const TwoSampleTest test = welch_two_sample(xa, xb);
+      Comparison c{.a = a.plan->id,
+                   .b = b.plan->id,
+                   .estimator = a.plan->estimator->name + " vs " + b.plan->estimator->name,
+                   .integrand = a.plan->integrand->name};
+      c.expect = biased == 1 ? "biased" : "consistent";
+      c.statistic = test.statistic;
+      c.dof = test.dof;
+      c.p_value = test.p_value;
+      c.mean_a = test.mean_a;
+      c.mean_b = test.mean_b;
+      c.stderr_a = test.stderr_a;
+      c.stderr_b = test.stderr_b;
+      c.replicates_a = xa.size();
+      c.replicates_b = xb.size();
+      Verdict v;
+      v.test = "welch";
+      v.tested = true;
+      v.statistic = test.statistic;
+      v.dof = test.dof;
+      v.p_value = test.p_value;
+      v.test_stderr = test.stderr_of_difference;
+      v.reference_value = test.mean_b;
+      v.mean_abs = std::fabs(test.mean_b);
+      v.expect = c.expect;
+      out.emplace_back(std::move(c), std::move(v));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err) {
   std::vector<RunRecord> records;
   records.reserve(plans.size());
   bool interrupted = false;
   for (const RunPlan& plan : plans) {
-    RunRecord record;
-    record.plan = &plan;
-    if (options.interrupted != nullptr && options.interrupted->load()) interrupted = true;
-    if (interrupted) {
-      record.result.status = RunStatus::kNotRun;
-      record.result.reference = plan.made_integrand->reference();
-      record.result.error = "interrupted before the run started";
-    } else {
-      if (!options.quiet) {
-        err << fmt::format("running {} × {} ({} samples × {} replicates)\n", plan.estimator->name,
-                           plan.integrand->name, plan.samples, plan.replicates);
-      }
-      record.result = execute_run(plan, {.seed = options.seed, .interrupted = options.interrupted});
-      if (record.result.status == RunStatus::kNotRun) interrupted = true;
-    }
-    if (record.result.status == RunStatus::kOk) {
-      record.aggregates =
-          aggregate(record.result.replicates, record.result.reference, plan.samples);
-      record.diagnostics = diagnose_samples(record.result.replicates);
-      record.verdict = verdict_for(plan, record.result, record.diagnostics);
-    } else if (record.result.status == RunStatus::kInvalid) {
-      record.aggregates =
-          aggregate(record.result.replicates, record.result.reference, plan.samples);
-    }
-    records.push_back(std::move(record));
+    records.push_back(execute_and_test(plan, options, interrupted, err));
   }
 
+  // One family: the runs' tests and the pairwise comparisons, Holm at alpha (at alpha / 2 when
+  // later stages may follow; they share the other half).
+  std::vector<std::pair<Comparison, Verdict>> comparisons;
+  if (options.compare_pairwise) comparisons = pairwise_comparisons(records);
   std::vector<Verdict*> family;
   for (RunRecord& record : records) family.push_back(record.verdict ? &*record.verdict : nullptr);
-  decide_family(family, options.alpha);
+  for (auto& [comparison, verdict] : comparisons) family.push_back(&verdict);
+  decide_family(family, options.escalate ? options.alpha / 2.0 : options.alpha);
 
+  std::deque<RunPlan> later_plans;  // stable addresses for the records that point at them
+  if (options.escalate) {
+    const double stage_alpha =
+        options.alpha / 2.0 / static_cast<double>(plans.size() * (kMaxStages - 1));
+    for (RunRecord& record : records) {
+      for (std::uint32_t stage = 2; stage <= kMaxStages && !interrupted && wants_escalation(record);
+           ++stage) {
+        const StageRecord earlier{.id = record.plan->id,
+                                  .samples = record.plan->samples,
+                                  .p_value = record.verdict->p_value,
+                                  .alpha = record.verdict->alpha,
+                                  .result = record.verdict->result,
+                                  .reason = record.verdict->reason};
+        later_plans.push_back(with_samples(*record.plan, record.plan->samples * kEscalationFactor));
+        RunRecord next = execute_and_test(later_plans.back(), options, interrupted, err);
+        if (next.verdict) {
+          std::vector<Verdict*> alone = {&*next.verdict};
+          decide_family(alone, stage_alpha);
+        }
+        next.earlier_stages = std::move(record.earlier_stages);
+        next.earlier_stages.push_back(earlier);
+        record = std::move(next);
+      }
+    }
+  }
+
+  ReportSections sections;
+  std::vector<Comparison> finished;
+  for (auto& [comparison, verdict] : comparisons) {
+    comparison.p_adjusted = verdict.p_adjusted;
+    comparison.alpha = verdict.alpha;
+    comparison.result = verdict.result;
+    comparison.reason = verdict.reason;
+    comparison.min_detectable_difference = verdict.min_detectable_bias;
+    finished.push_back(comparison);
+  }
+  sections.comparisons = comparisons_json(finished);
   const std::optional<fs::path> report_path =
       publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
-                                 options.suite_name, records),
+                                 options.suite_name, records, sections),
                      options, err);
   if (!options.quiet) print_summary(records, out);
   if (!report_path) return kExitRunFailed;
@@ -176,6 +292,9 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     if (record.result.status == RunStatus::kError || record.result.status == RunStatus::kInvalid) {
       failed = true;
     }
+  }
+  for (const Comparison& c : finished) {
+    if (c.result != c.expect) differs = true;
   }
   if (interrupted) return kExitInterrupted;
   if (differs) return kExitVerdictDiffers;

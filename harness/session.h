@@ -15,6 +15,12 @@
 
 namespace pcbench {
 
+inline constexpr std::uint32_t kMaxStages = 3;
+inline constexpr std::uint64_t kEscalationFactor = 4;
+// A stage is borderline when not rejected but its (adjusted) p-value is within this factor of
+// the threshold it was compared with.
+inline constexpr double kBorderlineFactor = 10.0;
+
 // Exit statuses (INTERFACE.md).
 enum ExitStatus : int {
   kExitOk = 0,
@@ -30,7 +36,13 @@ struct SessionOptions {
   unsigned threads = 0;
   std::optional<std::string> out_dir;  // default: results/runs/<date-time>/ + results/latest
   bool quiet = false;
-  double alpha = kDefaultAlpha;  // family-wise
+  double alpha = kDefaultAlpha;   // family-wise
+  bool compare_pairwise = false;  // the suite's "compare": "pairwise"
+  // Sequential escalation (verify): a borderline or low-count run is run again with
+  // kEscalationFactor times the samples, up to kMaxStages stages in all. Half of alpha goes to
+  // the first stage (Holm), half is split evenly (Bonferroni) over every possible later stage
+  // of every run, so the family-wise false-alarm rate stays below alpha whatever is escalated.
+  bool escalate = false;
   std::vector<std::string> argv;
   const std::atomic<bool>* interrupted = nullptr;
 };

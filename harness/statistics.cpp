@@ -172,18 +172,19 @@ SampleDiagnostics diagnose_samples(const std::vector<ReplicateResult>& replicate
 }
 
 std::optional<std::string> untestable_reason(const SampleDiagnostics& d) {
+  // Few effective samples first: they make the tail statistics meaningless too.
+  if (!(d.min_effective_samples >= kMinEffectiveSamples)) {
+    return fmt::format(
+        "too few effective samples: a replicate has {:.3g} (Kish), below {}; {} non-zero "
+        "samples in all; its mean is not near normal, so Student's t has no stated level",
+        d.min_effective_samples, kMinEffectiveSamples, d.nonzero);
+  }
   if (d.tail_shape > kInfiniteVarianceShape && d.largest_share > kDominantShare) {
     return fmt::format(
         "the variance may be infinite: the tail of |estimates| has Pareto shape k = {:.2f} > 1/2 "
         "(mean over replicates of fits to their {} largest) and one sample holds {:.0f}% of a "
         "replicate's sum of squares (median), so Student's t has no stated level",
         d.tail_shape, d.tail_size, 100.0 * d.largest_share);
-  }
-  if (!(d.min_effective_samples >= kMinEffectiveSamples)) {
-    return fmt::format(
-        "too few effective samples: a replicate has {:.3g} (Kish), below {}; {} non-zero "
-        "samples in all; its mean is not near normal, so Student's t has no stated level",
-        d.min_effective_samples, kMinEffectiveSamples, d.nonzero);
   }
   return std::nullopt;
 }

@@ -41,9 +41,17 @@ class SuiteParser {
                                    line_and_column(text, e.byte), e.what()));
     }
     require_object(root, "");
-    check_keys(root, "", {"name", "description", "defaults", "runs", "grid"});
+    check_keys(root, "", {"name", "description", "defaults", "runs", "grid", "compare"});
     SuiteRequest suite;
     suite.name = root.contains("name") ? string_at(root["name"], "/name") : "unnamed";
+    if (root.contains("compare")) {
+      const std::string compare = string_at(root["compare"], "/compare");
+      if (compare != "pairwise" && compare != "none") {
+        fail("/compare",
+             fmt::format("'{}' is not a comparison mode; valid: pairwise, none", compare));
+      }
+      suite.compare_pairwise = compare == "pairwise";
+    }
     if (root.contains("defaults")) {
       const Json& defaults = root["defaults"];
       require_object(defaults, "/defaults");

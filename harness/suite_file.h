@@ -20,6 +20,9 @@ struct SuiteRequest {
   std::optional<std::uint64_t> samples;
   std::optional<std::uint32_t> replicates;
   std::optional<std::uint64_t> seed;
+  // "compare": "pairwise": two-sample tests between every pair of runs on the same integrand
+  // (same parameters), counted in the family-wise alpha and the exit status.
+  bool compare_pairwise = false;
 };
 
 SuiteRequest parse_suite(const std::string& text, const std::string& file_name);

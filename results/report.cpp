@@ -104,6 +104,20 @@ Json largest_abs(const std::vector<double>& largest) {
       largest.begin() + static_cast<std::ptrdiff_t>(std::min(largest.size(), kReportedLargest))));
 }
 
+// The earlier stages of an escalated run (empty when it ran once).
+Json escalation_json(const std::vector<StageRecord>& stages) {
+  Json out = Json::array();
+  for (const StageRecord& s : stages) {
+    out.push_back({{"id", s.id},
+                   {"samples", s.samples},
+                   {"p_value", NumberWriter::optional_number(s.p_value)},
+                   {"alpha", s.alpha},
+                   {"result", s.result},
+                   {"reason", s.reason}});
+  }
+  return out;
+}
+
 // The effective parameters of the estimator and the integrand, in one object.
 Json params_json(const RunPlan& plan) {
   Json params = Json::object();
@@ -180,6 +194,7 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
       {"replicates", replicates},
       {"aggregates", aggregates},
       {"verdict", record.verdict ? verdict_json(*record.verdict, numbers) : Json(nullptr)},
+      {"escalation", escalation_json(record.earlier_stages)},
       {"diagnostics",
        Json{{"tail_shape", NumberWriter::optional_number(record.diagnostics.tail_shape)},
             {"tail_size", record.diagnostics.tail_size},

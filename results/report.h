@@ -22,8 +22,19 @@ namespace pcbench {
 
 inline constexpr int kSchemaVersion = 1;
 
+// An earlier stage of an escalated run: its budget and what its test said.
+struct StageRecord {
+  std::string id = {};
+  std::uint64_t samples = 0;
+  double p_value = 0.0;
+  double alpha = 0.0;  // the threshold the stage's (adjusted) p-value was compared with
+  std::string result = {};
+  std::string reason = {};
+};
+
 struct RunRecord {
   const RunPlan* plan = nullptr;
+  std::vector<StageRecord> earlier_stages = {};  // sequential escalation, first stage first
   RunResult result;
   Aggregates aggregates;
   SampleDiagnostics diagnostics;

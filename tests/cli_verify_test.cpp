@@ -1,0 +1,134 @@
+// The verifier's commands end to end: verify (declared workloads, escalation, --exact,
+// --estimates), compare, and a suite's pairwise comparisons.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "harness/cli.h"
+#include "test_support.h"
+
+namespace pcbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status;
+  std::string out;
+  std::string err;
+};
+
+class CliVerify : public ::testing::Test {
+ protected:
+  Result cli(const std::vector<std::string>& args) {
+    std::ostringstream out, err;
+    const int status = run_cli(args, out, err);
+    return {status, out.str(), err.str()};
+  }
+  nlohmann::json report(const std::string& name) {
+    return nlohmann::json::parse(read_text(folder_.path() / name / "report.json"));
+  }
+  std::string at(const std::string& name) { return (folder_.path() / name).string(); }
+
+ private:
+  TemporaryFolder folder_;
+};
+
+// A negative control alone runs on its declared integrand and budget and is flagged: exit 0.
+TEST_F(CliVerify, NegativeControlUsesItsDeclaredWorkload) {
+  const Result r = cli(
+      {"verify", "-e", "ctl-wrong-count", "-n", "20000", "-r", "8", "-q", "--out", at("control")});
+  EXPECT_EQ(r.status, 0) << r.err;
+  const auto run = report("control")["runs"][0];
+  EXPECT_EQ(run["integrand"], "form-factor");
+  EXPECT_EQ(run["verdict"]["result"], "biased");
+  EXPECT_EQ(run["verdict"]["expect"], "biased");
+  const Result bad = cli({"verify", "-e", "plain", "--out", at("bad")});
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("only a negative control declares its own integrand"), std::string::npos);
+  EXPECT_FALSE(fs::exists(at("bad") + "/report.json"));
+}
+
+// Too few effective samples: verify runs again with 4 and 16 times the samples, at the share of
+// alpha left for later stages, and records the earlier stages.
+TEST_F(CliVerify, LowCountRunsEscalate) {
+  const Result r = cli({"verify", "-e", "plain", "-i", "narrow-peak", "-n", "5000", "-r", "16",
+                        "-q", "--out", at("escalated")});
+  EXPECT_EQ(r.status, 0) << r.out;
+  const auto run = report("escalated")["runs"][0];
+  ASSERT_EQ(run["escalation"].size(), 2u);
+  EXPECT_EQ(run["escalation"][0]["samples"], 5000);
+  EXPECT_EQ(run["escalation"][0]["result"], "inconclusive");
+  EXPECT_EQ(run["samples"], 80000);
+  EXPECT_EQ(run["verdict"]["result"], "consistent");
+  EXPECT_DOUBLE_EQ(run["verdict"]["alpha"].get<double>(), 0.01 / 2 / 2);
+  // `run` does not escalate.
+  EXPECT_EQ(cli({"run", "-e", "plain", "-i", "narrow-peak", "-n", "5000", "-r", "16", "-q", "--out",
+                 at("once")})
+                .status,
+            1);
+  EXPECT_TRUE(report("once")["runs"][0]["escalation"].empty());
+}
+
+TEST_F(CliVerify, AlphaOutsideTheOpenIntervalIsBadInput) {
+  for (const char* alpha : {"0", "1", "-0.1", "x"}) {
+    EXPECT_EQ(cli({"verify", "-e", "plain", "-i", "form-factor", "--alpha", alpha}).status, 2)
+        << alpha;
+  }
+}
+
+// Replicate estimates from a file, against a reference and against a second file.
+TEST_F(CliVerify, EstimatesFromAFile) {
+  std::ofstream(at("a.txt")) << "1.01\n0.99\n1.02\n0.98\n1.00\n1.01\n0.99\n1.00\n";
+  std::ofstream(at("b.txt")) << "1.21\n1.19\n1.22\n1.18\n1.20\n1.21\n1.19\n1.20\n";
+  EXPECT_EQ(
+      cli({"verify", "--estimates", at("a.txt"), "--reference", "1", "--out", at("r1")}).status, 0);
+  EXPECT_EQ(report("r1")["external"][0]["verdict"]["result"], "consistent");
+  EXPECT_EQ(cli({"verify", "--estimates", at("a.txt"), "--against", at("b.txt"), "--out", at("r2")})
+                .status,
+            1);
+  EXPECT_EQ(report("r2")["external"][0]["verdict"]["result"], "biased");
+  EXPECT_EQ(cli({"verify", "--estimates", at("a.txt"), "--out", at("r3")}).status, 2);
+  EXPECT_EQ(cli({"verify", "--estimates", at("a.txt"), "-e", "plain", "--reference", "1"}).status,
+            2);
+}
+
+// compare pairs runs by id; a suite with "compare": "pairwise" tests every pair on an integrand,
+// and a control paired with an honest estimator is expected to differ.
+TEST_F(CliVerify, CompareAndPairwise) {
+  ASSERT_EQ(cli({"run", "-e", "plain", "-i", "form-factor", "-n", "2000", "-r", "8", "-q", "--out",
+                 at("a")})
+                .status,
+            0);
+  ASSERT_EQ(cli({"run", "-e", "plain", "-i", "form-factor", "-n", "2000", "-r", "8", "-s", "2",
+                 "-q", "--out", at("b")})
+                .status,
+            0);
+  const Result c =
+      cli({"compare", at("a") + "/report.json", at("b") + "/report.json", "--out", at("c")});
+  EXPECT_EQ(c.status, 0) << c.err;
+  ASSERT_EQ(report("c")["comparisons"].size(), 1u);
+  EXPECT_EQ(report("c")["comparisons"][0]["result"], "consistent");
+
+  std::ofstream(at("pairwise.json")) << R"({"name": "pairwise", "compare": "pairwise",
+    "defaults": {"samples": 20000, "replicates": 8},
+    "runs": [{"estimator": "plain", "integrand": "form-factor"},
+             {"estimator": "vc-all", "integrand": "form-factor"},
+             {"estimator": "ctl-wrong-count", "integrand": "form-factor"}]})";
+  const Result p = cli({"run", at("pairwise.json"), "-q", "--out", at("p")});
+  EXPECT_EQ(p.status, 0) << p.out;
+  const auto comparisons = report("p")["comparisons"];
+  ASSERT_EQ(comparisons.size(), 3u);
+  int differ = 0;
+  for (const auto& comparison : comparisons) {
+    EXPECT_EQ(comparison["result"], comparison["expect"]);
+    differ += comparison["expect"] == "biased";
+  }
+  EXPECT_EQ(differ, 2);
+}
+
+}  // namespace
+}  // namespace pcbench
