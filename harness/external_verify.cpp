@@ -74,16 +74,7 @@ int run_external_verification(const ExternalRequest& request, const SessionOptio
     reference_json = {{"value", value.value}, {"uncertainty", value.uncertainty}};
   } else {
     other = read_estimates(*request.against);
-    const TwoSampleTest test = welch_two_sample(estimates, other);
-    verdict.test = "welch_two_sample";
-    verdict.expect = request.expect;
-    verdict.tested = true;
-    verdict.statistic = test.statistic;
-    verdict.dof = test.dof;
-    verdict.p_value = test.p_value;
-    verdict.test_stderr = test.stderr_of_difference;
-    verdict.reference_value = test.mean_b;
-    verdict.mean_abs = std::fabs(test.mean_b);
+    verdict = two_sample_verdict(welch_two_sample(estimates, other), request.expect);
   }
   if (const std::optional<std::string> reason = untestable_reason(diagnostics)) {
     verdict = untested_verdict(*reason, request.expect);

@@ -42,6 +42,24 @@ bool ComparisonOutcome::as_expected() const {
                      [](const Comparison& c) { return c.result == c.expect; });
 }
 
+Comparison comparison_from(const TwoSampleTest& test, std::string a, std::string b,
+                           std::size_t replicates_a, std::size_t replicates_b) {
+  Comparison c;
+  c.a = std::move(a);
+  c.b = std::move(b);
+  c.statistic = test.statistic;
+  c.dof = test.dof;
+  c.p_value = test.p_value;
+  c.p_adjusted = test.p_value;
+  c.mean_a = test.mean_a;
+  c.mean_b = test.mean_b;
+  c.stderr_a = test.stderr_a;
+  c.stderr_b = test.stderr_b;
+  c.replicates_a = replicates_a;
+  c.replicates_b = replicates_b;
+  return c;
+}
+
 ComparisonOutcome compare_reports(const ReportData& a, const ReportData& b, double alpha,
                                   std::string_view name_a, std::string_view name_b) {
   if (!(alpha > 0.0 && alpha <= 1.0)) {
@@ -65,23 +83,11 @@ ComparisonOutcome compare_reports(const ReportData& a, const ReportData& b, doub
       outcome.not_compared.push_back({.id = run_a.id, .reason = why});
       continue;
     }
-    const TwoSampleTest welch = welch_two_sample(run_a.estimates, run_b.estimates);
-    Comparison c;
-    c.a = run_a.id;
-    c.b = run_b.id;
+    Comparison c = comparison_from(welch_two_sample(run_a.estimates, run_b.estimates), run_a.id,
+                                   run_b.id, run_a.estimates.size(), run_b.estimates.size());
     c.estimator = run_a.estimator;
     c.integrand = run_a.integrand;
-    c.statistic = welch.statistic;
-    c.dof = welch.dof;
-    c.p_value = welch.p_value;
-    c.p_adjusted = welch.p_value;
     c.alpha = alpha;
-    c.mean_a = welch.mean_a;
-    c.mean_b = welch.mean_b;
-    c.stderr_a = welch.stderr_a;
-    c.stderr_b = welch.stderr_b;
-    c.replicates_a = run_a.estimates.size();
-    c.replicates_b = run_b.estimates.size();
     outcome.comparisons.push_back(std::move(c));
   }
   for (const ReportRun& run_b : b.runs) {

@@ -60,6 +60,10 @@ struct ComparisonOutcome {
 
 // Compares two reports already read; `name_a` and `name_b` name them in warnings and reasons.
 // alpha must be in (0, 1] (InputError otherwise).
+// The figures of a two-sample test between runs a and b, before any family correction.
+Comparison comparison_from(const TwoSampleTest& test, std::string a, std::string b,
+                           std::size_t replicates_a, std::size_t replicates_b);
+
 ComparisonOutcome compare_reports(const ReportData& a, const ReportData& b,
                                   double alpha = kDefaultAlpha, std::string_view name_a = "A",
                                   std::string_view name_b = "B");

@@ -190,31 +190,12 @@ std::vector<std::pair<Comparison, Verdict>> pairwise_comparisons(
       for (const ReplicateResult& r : a.result.replicates) xa.push_back(r.estimate);
       for (const ReplicateResult& r : b.result.replicates) xb.push_back(r.estimate);
       const TwoSampleTest test = welch_two_sample(xa, xb);
-      Comparison c{.a = a.plan->id,
-                   .b = b.plan->id,
-                   .estimator = a.plan->estimator->name + " vs " + b.plan->estimator->name,
-                   .integrand = a.plan->integrand->name};
+      Comparison c = comparison_from(test, a.plan->id, b.plan->id, xa.size(), xb.size());
+      c.estimator = a.plan->estimator->name + " vs " + b.plan->estimator->name;
+      c.integrand = a.plan->integrand->name;
       c.expect = biased == 1 ? "biased" : "consistent";
-      c.statistic = test.statistic;
-      c.dof = test.dof;
-      c.p_value = test.p_value;
-      c.mean_a = test.mean_a;
-      c.mean_b = test.mean_b;
-      c.stderr_a = test.stderr_a;
-      c.stderr_b = test.stderr_b;
-      c.replicates_a = xa.size();
-      c.replicates_b = xb.size();
-      Verdict v;
-      v.test = "welch";
-      v.tested = true;
-      v.statistic = test.statistic;
-      v.dof = test.dof;
-      v.p_value = test.p_value;
-      v.test_stderr = test.stderr_of_difference;
-      v.reference_value = test.mean_b;
-      v.mean_abs = std::fabs(test.mean_b);
-      v.expect = c.expect;
-      out.emplace_back(std::move(c), std::move(v));
+      Verdict verdict = two_sample_verdict(test, c.expect);
+      out.emplace_back(std::move(c), std::move(verdict));
     }
   }
   return out;

@@ -240,6 +240,20 @@ Verdict test_against_reference(const std::vector<ReplicateResult>& replicates,
   return v;
 }
 
+Verdict two_sample_verdict(const TwoSampleTest& test, std::string expect) {
+  Verdict v;
+  v.test = "welch_two_sample";
+  v.expect = std::move(expect);
+  v.tested = true;
+  v.statistic = test.statistic;
+  v.dof = test.dof;
+  v.p_value = test.p_value;
+  v.test_stderr = test.stderr_of_difference;
+  v.reference_value = test.mean_b;
+  v.mean_abs = std::fabs(test.mean_b);  // the scale of a small difference, absent ∫|f|
+  return v;
+}
+
 void decide_family(std::vector<Verdict*>& verdicts, double alpha) {
   std::vector<Verdict*> tested;
   for (Verdict* v : verdicts) {

@@ -122,6 +122,10 @@ TwoSampleTest welch_test(double mean_a, double variance_of_mean_a, double dof_a,
 // 0 otherwise, and dof is (n_a - 1) + (n_b - 1).
 TwoSampleTest welch_two_sample(std::span<const double> a, std::span<const double> b);
 
+// The raw verdict of a two-sample test (before the family's correction), so that it can join a
+// family with the runs' tests; the test's standard error gives its minimum detectable difference.
+Verdict two_sample_verdict(const TwoSampleTest& test, std::string expect);
+
 // Holm's step-down adjusted p-values, in the order of `p_values`:
 // p_adj(i) = max over j <= i of min(1, (m - j + 1) p_(j)) with p_(1) <= ... <= p_(m).
 std::vector<double> holm_adjusted(std::span<const double> p_values);
