@@ -12,14 +12,13 @@ std::vector<ParamSpec> Blocker::params() {
 }
 
 Blocker::Blocker(const ResolvedParams& params)
-    : distance_(params.real("distance")),
-      height_(params.real("strip_height")),
-      strip_lo_(params.real("strip_center") - 0.5 * params.real("strip_width")),
-      strip_hi_(params.real("strip_center") + 0.5 * params.real("strip_width")) {}
+    : FlatlandInterval(params.real("distance"), params.real("strip_height"),
+                       params.real("strip_center") - 0.5 * params.real("strip_width"),
+                       params.real("strip_center") + 0.5 * params.real("strip_width")) {}
 
 Reference Blocker::reference() const {
-  const double blocked = parallel::flatland_through(distance_, height_, strip_lo_, strip_hi_);
-  return {.value = parallel::flatland_total(distance_) - blocked, .kind = ReferenceKind::kExact};
+  return {.value = parallel::flatland_total(distance_) - through_interval(),
+          .kind = ReferenceKind::kExact};
 }
 
 }  // namespace pcbench

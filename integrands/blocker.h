@@ -32,28 +32,15 @@
 
 namespace pcbench {
 
-class Blocker {
+class Blocker : public parallel::FlatlandInterval {
  public:
   static std::vector<ParamSpec> params();
   explicit Blocker(const ResolvedParams& params);
-  int light_dims() const { return 1; }
-  int camera_dims() const { return 1; }
   Reference reference() const;
 
   double f(const double* x, const double* y) const {
-    const double c = parallel::crossing(x[0], y[0], height_);
-    if (c >= strip_lo_ && c <= strip_hi_) return 0.0;
-    return parallel::flatland_kernel(y[0] - x[0], distance_);
+    return crosses_interval(x, y) ? 0.0 : approximate_importance(x, y);
   }
-
-  double approximate_importance(const double* x, const double* y) const {
-    return parallel::flatland_kernel(y[0] - x[0], distance_);
-  }
-
- private:
-  double distance_;
-  double height_;  // t
-  double strip_lo_, strip_hi_;
 };
 
 }  // namespace pcbench

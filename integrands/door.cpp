@@ -12,14 +12,12 @@ std::vector<ParamSpec> Door::params() {
 }
 
 Door::Door(const ResolvedParams& params)
-    : distance_(params.real("distance")),
-      height_(params.real("wall_height")),
-      gap_lo_(params.real("gap_center") - 0.5 * params.real("gap")),
-      gap_hi_(params.real("gap_center") + 0.5 * params.real("gap")) {}
+    : FlatlandInterval(params.real("distance"), params.real("wall_height"),
+                       params.real("gap_center") - 0.5 * params.real("gap"),
+                       params.real("gap_center") + 0.5 * params.real("gap")) {}
 
 Reference Door::reference() const {
-  return {.value = parallel::flatland_through(distance_, height_, gap_lo_, gap_hi_),
-          .kind = ReferenceKind::kExact};
+  return {.value = through_interval(), .kind = ReferenceKind::kExact};
 }
 
 }  // namespace pcbench

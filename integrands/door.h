@@ -26,28 +26,15 @@
 
 namespace pcbench {
 
-class Door {
+class Door : public parallel::FlatlandInterval {
  public:
   static std::vector<ParamSpec> params();
   explicit Door(const ResolvedParams& params);
-  int light_dims() const { return 1; }
-  int camera_dims() const { return 1; }
   Reference reference() const;
 
   double f(const double* x, const double* y) const {
-    const double c = parallel::crossing(x[0], y[0], height_);
-    if (c < gap_lo_ || c > gap_hi_) return 0.0;
-    return parallel::flatland_kernel(y[0] - x[0], distance_);
+    return crosses_interval(x, y) ? approximate_importance(x, y) : 0.0;
   }
-
-  double approximate_importance(const double* x, const double* y) const {
-    return parallel::flatland_kernel(y[0] - x[0], distance_);
-  }
-
- private:
-  double distance_;
-  double height_;  // t
-  double gap_lo_, gap_hi_;
 };
 
 }  // namespace pcbench

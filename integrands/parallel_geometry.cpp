@@ -110,4 +110,8 @@ double rectangle_integral(double a0, double a1, double b0, double b1, double h) 
          corner_integral(a0, b0, h);
 }
 
+double FlatlandInterval::through_interval() const {
+  return flatland_through(distance_, height_, lo_, hi_);
+}
+
 }  // namespace pcbench::parallel

@@ -43,6 +43,33 @@ inline double crossing(double x, double y, double t) {
   return x + t * (y - x);
 }
 
+// Flatland (1 + 1 dimensions) with an interval [lo, hi] of the line z = t h between the segments:
+// what door (light passes only through the interval) and blocker (the interval stops it) share.
+// The unoccluded kernel is their resampling importance: it cannot see the interval.
+class FlatlandInterval {
+ public:
+  FlatlandInterval(double distance, double height, double lo, double hi)
+      : distance_(distance), height_(height), lo_(lo), hi_(hi) {}
+  int light_dims() const { return 1; }
+  int camera_dims() const { return 1; }
+  double approximate_importance(const double* x, const double* y) const {
+    return flatland_kernel(y[0] - x[0], distance_);
+  }
+
+ protected:
+  // Whether the segment x -> y crosses the line z = t h inside [lo, hi].
+  bool crosses_interval(const double* x, const double* y) const {
+    const double c = crossing(x[0], y[0], height_);
+    return c >= lo_ && c <= hi_;
+  }
+  // ∫∫ k 1[the crossing is in [lo, hi]] (closed form).
+  double through_interval() const;
+
+  double distance_;
+  double height_;  // t
+  double lo_, hi_;
+};
+
 // For a light coordinate x in [0, 1]: the offsets u = y - x with y in [0, 1] whose crossing lies
 // in [lo, hi], as [u_lo, u_hi] (empty when u_lo >= u_hi). Each bound is the larger (smaller) of
 // two affine functions of x.
