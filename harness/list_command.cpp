@@ -42,10 +42,17 @@ void print_registry(std::ostream& out, bool as_json) {
   if (as_json) {
     Json estimators = Json::array();
     for (const EstimatorEntry& e : estimator_registry()) {
-      estimators.push_back(Json{{"name", e.name},
-                                {"biased", e.biased},
-                                {"params", params_json(e.params)},
-                                {"description", e.description}});
+      Json entry{{"name", e.name},
+                 {"biased", e.biased},
+                 {"params", params_json(e.params)},
+                 {"description", e.description}};
+      if (e.declared) {
+        entry["declared"] = Json{{"integrand", e.declared->integrand},
+                                 {"params", e.declared->integrand_params},
+                                 {"samples", e.declared->samples},
+                                 {"replicates", e.declared->replicates}};
+      }
+      estimators.push_back(std::move(entry));
     }
     Json integrands = Json::array();
     for (const IntegrandEntry& i : integrand_registry()) {
@@ -63,6 +70,11 @@ void print_registry(std::ostream& out, bool as_json) {
   out << "estimators:\n";
   for (const EstimatorEntry& e : estimator_registry()) {
     out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
+    if (e.declared) {
+      out << fmt::format("      biased on {} at {} samples x {} replicates (`verify -e {}`)\n",
+                         e.declared->integrand, e.declared->samples, e.declared->replicates,
+                         e.name);
+    }
     print_params(out, e.params);
   }
   out << "integrands:\n";

@@ -109,8 +109,15 @@ void print_summary(const std::vector<RunRecord>& records, std::ostream& out) {
   for (const RunRecord& record : records) {
     const Verdict* v = record.verdict ? &*record.verdict : nullptr;
     const bool plain_pass = v != nullptr && v->result == "consistent" && v->expect == "consistent";
-    if (plain_pass) continue;
-    const std::string why = v != nullptr ? v->result + ": " + v->reason : record.result.error;
+    if (plain_pass && record.earlier_stages.empty()) continue;
+    std::string why = v != nullptr ? v->result + ": " + v->reason : record.result.error;
+    if (!record.earlier_stages.empty()) {
+      std::string budgets;
+      for (const StageRecord& stage : record.earlier_stages) {
+        budgets += fmt::format("{} ({}) -> ", stage.samples, stage.result);
+      }
+      why = fmt::format("escalated {}{} samples; {}", budgets, record.plan->samples, why);
+    }
     out << fmt::format("  {} × {} ({}): {}\n", record.plan->estimator->name,
                        record.plan->integrand->name, record.plan->id, why);
   }
