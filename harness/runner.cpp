@@ -50,15 +50,31 @@ struct ThreadState {
   Counters counters;
 };
 
+// The chunk's running sum at a series checkpoint that falls inside (or at the end of) it.
+struct ChunkCheckpoint {
+  std::uint64_t samples = 0;
+  double sum = 0.0;
+  double cpu_seconds = 0.0;
+  double seconds = 0.0;
+};
+
 struct ChunkResult {
   Tally tally = Tally();
   CompensatedSum magnitude = {};  // Σ of per-sample estimates of ∫∫ |f|
+  std::vector<ChunkCheckpoint> checkpoints = {};
   double seconds = 0.0;
   double cpu_seconds = 0.0;
   bool done = false;
 };
 
 }  // namespace
+
+std::vector<std::uint64_t> series_checkpoints(std::uint64_t samples) {
+  std::vector<std::uint64_t> out;
+  for (std::uint64_t n = 1024; n < samples; n *= 2) out.push_back(n);
+  out.push_back(samples);
+  return out;
+}
 
 std::uint32_t chunk_size(std::uint64_t samples) {
   // At most 64 chunks per replicate keeps the merge cheap; at least 16 batches per chunk keeps
@@ -115,6 +131,15 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
         out.tally.add(estimates[i], batch + i);
         out.magnitude.add(ctx.magnitudes[i]);
       }
+      // Checkpoints are powers of two >= 1024 (multiples of the batch size) and N: they fall on
+      // batch ends.
+      const std::uint64_t done = batch + ctx.sample_count;
+      if (done == samples || (done >= 1024 && (done & (done - 1)) == 0)) {
+        out.checkpoints.push_back({.samples = done,
+                                   .sum = out.tally.sum(),
+                                   .cpu_seconds = thread_cpu_seconds() - cpu_start,
+                                   .seconds = wall_seconds_since(start)});
+      }
     }
     out.cpu_seconds = thread_cpu_seconds() - cpu_start;
     out.seconds = wall_seconds_since(start);
@@ -154,6 +179,14 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
     ReplicateResult& rep = result.replicates[r];
     for (std::uint64_t c = 0; c < chunks_per_replicate; ++c) {
       const ChunkResult& part = chunks[r * chunks_per_replicate + c];
+      // The chunks before this one are complete: add this chunk's partial sums to theirs.
+      for (const ChunkCheckpoint& point : part.checkpoints) {
+        rep.checkpoints.push_back(
+            {.samples = point.samples,
+             .estimate = (tally.sum() + point.sum) / static_cast<double>(point.samples),
+             .cpu_seconds = rep.cpu_seconds + point.cpu_seconds,
+             .seconds = rep.seconds + point.seconds});
+      }
       tally.merge(part.tally);
       magnitude.add(part.magnitude);
       rep.seconds += part.seconds;

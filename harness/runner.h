@@ -19,6 +19,18 @@ namespace pcbench {
 enum class RunStatus { kOk, kInvalid, kError, kNotRun };
 const char* to_string(RunStatus status);
 
+// A replicate's running estimate after its first `samples` samples (a point of the convergence
+// series), with the thread CPU and wall time its chunks had spent by then.
+struct Checkpoint {
+  std::uint64_t samples = 0;
+  double estimate = 0.0;
+  double cpu_seconds = 0.0;
+  double seconds = 0.0;
+};
+
+// Where the convergence series is taken: every power of two from 1024 below N, and N.
+std::vector<std::uint64_t> series_checkpoints(std::uint64_t samples);
+
 struct ReplicateResult {
   double estimate = 0.0;  // mean of the N per-sample estimates (non-finite ones included)
   double variance = 0.0;  // sample variance of the per-sample estimates
@@ -33,6 +45,7 @@ struct ReplicateResult {
   std::uint64_t nonzero = 0;          // finite samples != 0
   double effective_samples = 0.0;     // Kish's (Σ |x|)² / Σ x² over the finite samples
   double largest_square_share = 0.0;  // (largest |x|)² / Σ x²: near 1/n unless one sample rules
+  std::vector<Checkpoint> checkpoints = {};  // at series_checkpoints(N), in order
 };
 
 struct NonfiniteLocation {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
@@ -108,6 +109,50 @@ double detectable_multiplier(double share, double dof) {
   return t_quantile(1.0 - share / 2.0, dof) + t_quantile(kPower, dof);
 }
 
+std::vector<SeriesPoint> convergence_series(const std::vector<ReplicateResult>& replicates,
+                                            const Reference& reference) {
+  std::vector<SeriesPoint> series;
+  if (replicates.empty()) return series;
+  const std::size_t points = replicates.front().checkpoints.size();
+  const double count = static_cast<double>(replicates.size());
+  for (std::size_t k = 0; k < points; ++k) {
+    Tally tally;
+    CompensatedSum squared_error;
+    SeriesPoint point{.samples = replicates.front().checkpoints[k].samples};
+    for (std::size_t r = 0; r < replicates.size(); ++r) {
+      const Checkpoint& c = replicates[r].checkpoints[k];
+      tally.add(c.estimate, r);
+      point.cpu_seconds += c.cpu_seconds / count;
+      point.seconds += c.seconds / count;
+      const double error = c.estimate - reference.value;
+      squared_error.add(error * error);
+    }
+    point.mean = tally.mean();
+    point.stderr_of_mean = std::sqrt(tally.variance() / count);
+    const bool has_reference = reference.kind != ReferenceKind::kNone;
+    point.bias = has_reference ? point.mean - reference.value : kNaN;
+    point.rmse = has_reference ? std::sqrt(squared_error.value() / count) : kNaN;
+    series.push_back(point);
+  }
+  return series;
+}
+
+double rmse_slope(const std::vector<SeriesPoint>& series) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
+  for (const SeriesPoint& p : series) {
+    if (!(p.rmse > 0.0) || !std::isfinite(p.rmse)) continue;
+    const double x = std::log(static_cast<double>(p.samples));
+    const double y = std::log(p.rmse);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+    n += 1;
+  }
+  if (n < 3) return kNaN;
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
 Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Reference& reference,
                      std::uint64_t samples_per_replicate) {
   Aggregates out;
@@ -137,6 +182,17 @@ Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Refer
   const double per_sample_variance = s.variance * static_cast<double>(samples_per_replicate);
   out.efficiency = 1.0 / (per_sample_variance * out.seconds_per_sample);
   out.mean_abs = mean_abs_of(replicates, reference);
+  // Var ∈ [(R-1) s² / χ²_{0.975}, (R-1) s² / χ²_{0.025}] flips into the efficiency's interval.
+  if (replicates.size() >= 2) {
+    const boost::math::chi_squared chi2(count - 1.0);
+    const double scaled = (count - 1.0) * per_sample_variance;
+    out.efficiency_low = boost::math::quantile(chi2, 0.025) / (scaled * out.seconds_per_sample);
+    out.efficiency_high = boost::math::quantile(chi2, 0.975) / (scaled * out.seconds_per_sample);
+  } else {
+    out.efficiency_low = out.efficiency_high = kNaN;
+  }
+  out.series = convergence_series(replicates, reference);
+  out.rmse_slope = rmse_slope(out.series);
   return out;
 }
 

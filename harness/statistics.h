@@ -21,6 +21,18 @@ inline constexpr double kDefaultAlpha = 0.01;  // family-wise, per suite
 inline constexpr double kPower = 0.8;          // for the minimum detectable bias
 
 // NaN marks a figure that is undefined (e.g. the bias without a reference).
+// One point of a run's convergence series: the replicates' running estimates after `samples`
+// samples each.
+struct SeriesPoint {
+  std::uint64_t samples = 0;
+  double mean = 0.0;
+  double stderr_of_mean = 0.0;
+  double bias = 0.0;         // NaN without a reference
+  double rmse = 0.0;         // of one replicate's running estimate; NaN without a reference
+  double cpu_seconds = 0.0;  // per replicate, mean over replicates
+  double seconds = 0.0;      // wall, per replicate, mean over replicates
+};
+
 struct Aggregates {
   double mean = 0.0;
   double stderr_of_mean = 0.0;  // across replicates
@@ -30,10 +42,24 @@ struct Aggregates {
   double seconds_per_sample = 0.0;  // thread CPU seconds per camera sample
   double efficiency = 0.0;          // 1 / (per-sample variance × seconds per sample)
   double mean_abs = 0.0;            // estimate of ∫∫ |f|, the scale of "a small bias"
+  // 95% interval of the efficiency from the chi-square interval of the variance across R
+  // replicates (the time per sample is measured far more precisely than the variance).
+  double efficiency_low = 0.0;
+  double efficiency_high = 0.0;
+  std::vector<SeriesPoint> series = {};
+  // Least-squares slope of log RMSE against log samples over the series: -1/2 where the
+  // variance is finite and the estimator unbiased (reported, not assumed). NaN without a
+  // reference or with fewer than 3 points.
+  double rmse_slope = std::numeric_limits<double>::quiet_NaN();
 };
 
 Aggregates aggregate(const std::vector<ReplicateResult>& replicates, const Reference& reference,
                      std::uint64_t samples_per_replicate);
+
+// The convergence series of a run (its replicates' checkpoints) and its log-log RMSE slope.
+std::vector<SeriesPoint> convergence_series(const std::vector<ReplicateResult>& replicates,
+                                            const Reference& reference);
+double rmse_slope(const std::vector<SeriesPoint>& series);
 
 struct Verdict {
   std::string test;  // "student_t", "welch", "none"

@@ -105,6 +105,8 @@ class Tally {
 
   // Mean over all samples; non-finite samples propagate into it (they are never dropped).
   double mean() const;
+  // Sum of all samples (compensated), non-finite ones included.
+  double sum() const { return sum_.value() + nonfinite_sum_; }
   // Unbiased sample variance of the finite samples (n - 1 in the denominator); NaN if n < 2.
   double variance_of_finite() const;
   // Variance of all samples: NaN once any sample was not finite.

@@ -151,6 +151,7 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
   }
 
   Json aggregates = nullptr;
+  Json series = Json::array();
   if (result.status == RunStatus::kOk || result.status == RunStatus::kInvalid) {
     const Aggregates& a = record.aggregates;
     const bool has_reference = result.reference.kind != ReferenceKind::kNone;
@@ -158,17 +159,35 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
       return has_reference ? numbers.number(value, fmt::format("aggregates/{}", name))
                            : Json(nullptr);
     };
-    aggregates = Json{{"mean", numbers.number(a.mean, "aggregates/mean")},
-                      {"stderr", numbers.number(a.stderr_of_mean, "aggregates/stderr")},
-                      {"bias", with_reference(a.bias, "bias")},
-                      {"rmse", with_reference(a.rmse, "rmse")},
-                      {"rel_mse", has_reference && result.reference.value != 0.0
-                                      ? numbers.number(a.rel_mse, "aggregates/rel_mse")
-                                      : Json(nullptr)},
-                      {"seconds_per_sample",
-                       numbers.number(a.seconds_per_sample, "aggregates/seconds_per_sample")},
-                      {"efficiency", numbers.number(a.efficiency, "aggregates/efficiency")},
-                      {"mean_abs", numbers.number(a.mean_abs, "aggregates/mean_abs")}};
+    aggregates =
+        Json{{"mean", numbers.number(a.mean, "aggregates/mean")},
+             {"stderr", numbers.number(a.stderr_of_mean, "aggregates/stderr")},
+             {"bias", with_reference(a.bias, "bias")},
+             {"rmse", with_reference(a.rmse, "rmse")},
+             {"rel_mse", has_reference && result.reference.value != 0.0
+                             ? numbers.number(a.rel_mse, "aggregates/rel_mse")
+                             : Json(nullptr)},
+             {"seconds_per_sample",
+              numbers.number(a.seconds_per_sample, "aggregates/seconds_per_sample")},
+             {"efficiency", numbers.number(a.efficiency, "aggregates/efficiency")},
+             {"efficiency_low", numbers.number(a.efficiency_low, "aggregates/efficiency_low")},
+             {"efficiency_high", numbers.number(a.efficiency_high, "aggregates/efficiency_high")},
+             {"rmse_slope", has_reference && a.series.size() >= 3
+                                ? numbers.number(a.rmse_slope, "aggregates/rmse_slope")
+                                : Json(nullptr)},
+             {"mean_abs", numbers.number(a.mean_abs, "aggregates/mean_abs")}};
+    for (std::size_t k = 0; k < a.series.size(); ++k) {
+      const SeriesPoint& p = a.series[k];
+      const std::string at = fmt::format("series/{}/", k);
+      series.push_back(
+          {{"samples", p.samples},
+           {"mean", numbers.number(p.mean, at + "mean")},
+           {"stderr", numbers.number(p.stderr_of_mean, at + "stderr")},
+           {"bias", has_reference ? numbers.number(p.bias, at + "bias") : Json(nullptr)},
+           {"rmse", has_reference ? numbers.number(p.rmse, at + "rmse") : Json(nullptr)},
+           {"cpu_seconds", p.cpu_seconds},
+           {"seconds", p.seconds}});
+    }
   }
 
   Json first_nonfinite = nullptr;
@@ -207,7 +226,7 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
                         {"light_paths", c.light_paths},
                         {"connections", c.connections},
                         {"importance_evaluations", c.importance_evaluations}}},
-      {"series", Json::array()}};
+      {"series", series}};
   run["nonfinite_fields"] = numbers.nonfinite();
   return run;
 }

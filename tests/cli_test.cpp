@@ -166,6 +166,12 @@ nlohmann::json numbers_of(nlohmann::json report) {
     }
     run["aggregates"].erase("seconds_per_sample");
     run["aggregates"].erase("efficiency");
+    run["aggregates"].erase("efficiency_low");
+    run["aggregates"].erase("efficiency_high");
+    for (auto& point : run["series"]) {
+      point.erase("seconds");
+      point.erase("cpu_seconds");
+    }
   }
   return report["runs"];
 }

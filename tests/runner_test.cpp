@@ -30,6 +30,10 @@ void expect_same_numbers(const RunResult& a, const RunResult& b) {
     EXPECT_EQ(a.replicates[r].variance, b.replicates[r].variance) << "replicate " << r;
     EXPECT_EQ(a.replicates[r].n, b.replicates[r].n);
     EXPECT_EQ(a.replicates[r].largest, b.replicates[r].largest);
+    ASSERT_EQ(a.replicates[r].checkpoints.size(), b.replicates[r].checkpoints.size());
+    for (std::size_t k = 0; k < a.replicates[r].checkpoints.size(); ++k) {
+      EXPECT_EQ(a.replicates[r].checkpoints[k].estimate, b.replicates[r].checkpoints[k].estimate);
+    }
   }
   EXPECT_EQ(a.counters.connections, b.counters.connections);
 }
@@ -146,6 +150,39 @@ double gaussian_1d(double k, double c) {
 // with twice the exponent. The across-replicate variance must match it: s² / (σ²/N) is
 // χ²(R-1) when the samples are independent. Correlated streams (a shared or overlapping stream)
 // keep the mean right but break this. False-alarm budget: 1e-4 two-sided, fixed seed.
+// The convergence series: checkpoints at powers of two from 1024 and at N; each is the running
+// mean of the first n samples (checked against a run of n samples: the same streams), and the
+// last is the replicate's estimate.
+TEST(RunnerSeries, CheckpointsAreRunningMeansOfThePrefix) {
+  EXPECT_EQ(series_checkpoints(5000), (std::vector<std::uint64_t>{1024, 2048, 4096, 5000}));
+  EXPECT_EQ(series_checkpoints(1000), (std::vector<std::uint64_t>{1000}));
+  const RunPlan whole = plan_single("plain", "genz-gaussian", {}, 70000, 3);
+  const RunResult result = execute_run(whole, {.seed = 4});
+  for (const ReplicateResult& rep : result.replicates) {
+    ASSERT_EQ(rep.checkpoints.size(), 8u);  // 1024 .. 65536, 70000
+    EXPECT_EQ(rep.checkpoints.back().samples, 70000u);
+    EXPECT_NEAR(rep.checkpoints.back().estimate, rep.estimate, 1e-15);
+    for (std::size_t k = 1; k < rep.checkpoints.size(); ++k) {
+      EXPECT_GE(rep.checkpoints[k].cpu_seconds, rep.checkpoints[k - 1].cpu_seconds);
+    }
+  }
+  // The checkpoint at 16384 is the estimate of a run of 16384 samples with the same random
+  // streams (the plan keeps its id, so the streams are the same; only the budget differs).
+  RunPlan prefix = whole;
+  prefix.samples = 16384;
+  const RunResult shorter = execute_run(prefix, {.seed = 4});
+  for (std::size_t r = 0; r < result.replicates.size(); ++r) {
+    EXPECT_NEAR(result.replicates[r].checkpoints[4].estimate, shorter.replicates[r].estimate,
+                1e-15);
+  }
+  const Aggregates a = aggregate(result.replicates, result.reference, whole.samples);
+  ASSERT_EQ(a.series.size(), 8u);
+  EXPECT_DOUBLE_EQ(a.series.back().mean, a.mean);
+  EXPECT_TRUE(std::isfinite(a.rmse_slope));
+  EXPECT_LT(a.efficiency_low, a.efficiency);
+  EXPECT_GT(a.efficiency_high, a.efficiency);
+}
+
 TEST(PlainVariance, MatchesTheExactVarianceOfTheGaussian) {
   constexpr double kSharpness = 4.0, kCenter = 0.3;
   constexpr int kDims = 3;  // light_dims 2 + camera_dims 1
