@@ -57,9 +57,11 @@ bool declared_infinite_variance(const RunPlan& plan) {
 
 std::string default_expectation(const RunPlan& plan, const Reference& reference) {
   if (plan.expect) return *plan.expect;
+  // Without a reference nothing can be tested against it (pairwise comparisons still can).
+  if (reference.kind == ReferenceKind::kNone) return "inconclusive";
   if (plan.estimator->biased) return "biased";
   if (declared_infinite_variance(plan)) return "inconclusive";
-  return reference.kind == ReferenceKind::kNone ? "inconclusive" : "consistent";
+  return "consistent";
 }
 
 // Student's t assumes a finite variance and replicate means near normal; where the samples say
@@ -168,24 +170,31 @@ bool wants_escalation(const RunRecord& record) {
          record.diagnostics.min_effective_samples < kMinEffectiveSamples;
 }
 
-// Two-sample Welch tests between every pair of finished runs on the same integrand with the same
-// integrand parameters. A pair of two runs expected consistent is expected not to differ; a pair
-// of one consistent and one biased run is expected to differ; other pairs are not compared.
+// Whether a finished run's replicates can enter a two-sample test (the same guards as a test
+// against a reference: no heavy tail, enough effective samples).
+bool comparable(const RunRecord& record) {
+  return record.verdict && !untestable_reason(record.diagnostics).has_value();
+}
+
+// Two-sample Welch tests between pairs of finished runs on the same integrand with the same
+// integrand parameters: every pair (`all_pairs`, the suite's "compare": "pairwise"), or only
+// pairs on integrands without a reference, where they are the only test there is (verify). Two
+// honest estimators are expected not to differ, an honest one and a negative control to differ;
+// two controls are not compared.
 std::vector<std::pair<Comparison, Verdict>> pairwise_comparisons(
-    const std::vector<RunRecord>& records) {
+    const std::vector<RunRecord>& records, bool all_pairs) {
   std::vector<std::pair<Comparison, Verdict>> out;
   for (std::size_t i = 0; i < records.size(); ++i) {
     for (std::size_t j = i + 1; j < records.size(); ++j) {
       const RunRecord& a = records[i];
       const RunRecord& b = records[j];
-      if (!a.verdict || !b.verdict || a.plan->integrand != b.plan->integrand ||
+      if (!comparable(a) || !comparable(b) || a.plan->integrand != b.plan->integrand ||
           a.plan->integrand_params.values() != b.plan->integrand_params.values()) {
         continue;
       }
-      const int biased = (a.verdict->expect == "biased") + (b.verdict->expect == "biased");
-      const int consistent =
-          (a.verdict->expect == "consistent") + (b.verdict->expect == "consistent");
-      if (consistent + biased != 2 || biased == 2) continue;
+      if (!all_pairs && a.result.reference.kind != ReferenceKind::kNone) continue;
+      const int biased = a.plan->estimator->biased + b.plan->estimator->biased;
+      if (biased == 2) continue;
       std::vector<double> xa, xb;
       for (const ReplicateResult& r : a.result.replicates) xa.push_back(r.estimate);
       for (const ReplicateResult& r : b.result.replicates) xb.push_back(r.estimate);
@@ -215,7 +224,9 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   // One family: the runs' tests and the pairwise comparisons, Holm at alpha (at alpha / 2 when
   // later stages may follow; they share the other half).
   std::vector<std::pair<Comparison, Verdict>> comparisons;
-  if (options.compare_pairwise) comparisons = pairwise_comparisons(records);
+  if (options.compare_pairwise || options.escalate) {
+    comparisons = pairwise_comparisons(records, options.compare_pairwise);
+  }
   std::vector<Verdict*> family;
   for (RunRecord& record : records) family.push_back(record.verdict ? &*record.verdict : nullptr);
   for (auto& [comparison, verdict] : comparisons) family.push_back(&verdict);
@@ -262,7 +273,14 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
       publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
                                  options.suite_name, records, sections),
                      options, err);
-  if (!options.quiet) print_summary(records, out);
+  if (!options.quiet) {
+    print_summary(records, out);
+    for (const Comparison& c : finished) {
+      out << fmt::format("  compared {} on {}: {}{} ({})\n", c.estimator, c.integrand, c.result,
+                         c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect),
+                         c.reason);
+    }
+  }
   if (!report_path) return kExitRunFailed;
   out << "report: " << report_path->string() << "\n";
 

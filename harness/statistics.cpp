@@ -326,14 +326,17 @@ void decide_family(std::vector<Verdict*>& verdicts, double alpha) {
     v.p_adjusted = adjusted[i];
     const bool reject = v.p_adjusted <= alpha;
     v.result = reject ? "biased" : "consistent";
-    v.reason = reject ? fmt::format(
-                            "the mean differs from the reference by {:.3g} standard "
-                            "errors (Holm-adjusted p = {:.3g} <= alpha = {})",
-                            v.statistic, v.p_adjusted, alpha)
-                      : fmt::format(
-                            "no evidence of bias: t = {:.3g}, Holm-adjusted p = {:.3g} > "
-                            "alpha = {}",
-                            v.statistic, v.p_adjusted, alpha);
+    const bool two_sample = v.test == "welch_two_sample";
+    v.reason =
+        reject ? fmt::format(
+                     "{} by {:.3g} standard errors (Holm-adjusted p = {:.3g} <= "
+                     "alpha = {})",
+                     two_sample ? "the two means differ" : "the mean differs from the reference",
+                     v.statistic, v.p_adjusted, alpha)
+               : fmt::format(
+                     "no evidence of {}: t = {:.3g}, Holm-adjusted p = {:.3g} > "
+                     "alpha = {}",
+                     two_sample ? "a difference" : "bias", v.statistic, v.p_adjusted, alpha);
     // The bias a two-sided test at the Bonferroni share alpha / m detects with 80% power
     // (normal-theory approximation with Student quantiles).
     const double share = alpha / static_cast<double>(m);

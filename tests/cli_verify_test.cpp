@@ -130,5 +130,17 @@ TEST_F(CliVerify, CompareAndPairwise) {
   EXPECT_EQ(differ, 2);
 }
 
+// Without a reference, verify tests estimators against each other (two-sample Welch): honest
+// pairs agree, and a negative control differs from each of them.
+TEST_F(CliVerify, WithoutAReferenceEstimatorsAreComparedPairwise) {
+  const Result r = cli({"verify", "-e", "plain,pcbpt,ctl-wrong-count", "-i", "expr", "-p",
+                        "f=x0*y0+sin(x0)", "-n", "20000", "-r", "8", "-q", "--out", at("nr")});
+  EXPECT_EQ(r.status, 0) << r.out;
+  const auto report = this->report("nr");
+  ASSERT_EQ(report["comparisons"].size(), 3u);
+  for (const auto& c : report["comparisons"]) EXPECT_EQ(c["result"], c["expect"]);
+  for (const auto& run : report["runs"]) EXPECT_EQ(run["verdict"]["result"], "inconclusive");
+}
+
 }  // namespace
 }  // namespace pcbench
