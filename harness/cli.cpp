@@ -29,6 +29,7 @@ struct RunArguments {
   std::vector<std::string> integrands;
   std::vector<std::string> params;  // key=value
   std::uint64_t samples = 0;
+  double seconds = 0.0;
   std::uint32_t replicates = 0;
   std::uint64_t seed = kDefaultSeed;
   unsigned threads = 0;
@@ -198,6 +199,7 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     session.suite_name = suite.name;
     if (suite.samples) budget.samples = *suite.samples;
     if (suite.replicates) budget.replicates = *suite.replicates;
+    budget.seconds = suite.seconds;
     if (suite.seed && run_app.count("--seed") == 0) session.seed = *suite.seed;
     session.compare_pairwise = suite.compare_pairwise;
   } else {
@@ -205,6 +207,12 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
   }
   // Options given on the command line override the suite's defaults and its rows.
   if (run_app.count("--samples")) budget.forced_samples = args.samples;
+  if (run_app.count("--seconds")) {
+    if (run_app.count("--samples")) {
+      throw InputError("command line: give --samples or --seconds, not both");
+    }
+    budget.forced_seconds = args.seconds;
+  }
   if (run_app.count("--replicates")) budget.forced_replicates = args.replicates;
 
   const std::vector<RunPlan> plans = plan_runs(grids, budget);
@@ -244,6 +252,9 @@ void add_run_options(CLI::App* app, RunArguments& args) {
                   "key=value, repeatable; numeric and choice values may be comma lists (a grid)");
   app->add_option("--samples,-n", args.samples, "camera samples per replicate (default 100000)")
       ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
+  app->add_option("--seconds", args.seconds,
+                  "equal time: CPU seconds per replicate; a pilot picks the sample count")
+      ->check(CLI::Range(1e-3, kMaxSecondsPerReplicate));
   app->add_option("--replicates,-r", args.replicates, "independent replicates (default 32)")
       ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
   app->add_option("--seed,-s", args.seed, "seed (default 1)")

@@ -111,6 +111,8 @@ void assign_id(RunPlan& plan) {
   std::map<std::string, std::string> effective;
   for (const auto& [key, value] : plan.estimator_params.values()) effective[key] = to_text(value);
   for (const auto& [key, value] : plan.integrand_params.values()) effective[key] = to_text(value);
+  // No parameter name starts with '@': the budget cannot collide with a parameter.
+  if (plan.seconds) effective["@seconds"] = fmt::format("{}", *plan.seconds);
   plan.id_hash = run_id_hash(plan.estimator->name, plan.integrand->name, effective, plan.samples,
                              plan.replicates);
   plan.id = fmt::format("{:016x}", plan.id_hash);
@@ -119,8 +121,16 @@ void assign_id(RunPlan& plan) {
 RunPlan with_samples(const RunPlan& plan, std::uint64_t samples) {
   RunPlan next = plan;
   next.samples = samples;
+  next.seconds.reset();
   assign_id(next);
   return next;
+}
+
+RunPlan with_chosen_samples(const RunPlan& plan, std::uint64_t samples) {
+  RunPlan chosen = plan;
+  chosen.samples = samples;
+  chosen.id_hash = with_samples(plan, samples).id_hash;
+  return chosen;
 }
 
 std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
@@ -151,7 +161,19 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
       plan.samples = budget.forced_samples.value_or(grid.samples.value_or(budget.samples));
       plan.replicates =
           budget.forced_replicates.value_or(grid.replicates.value_or(budget.replicates));
-      if (plan.samples < 1 || plan.samples > kMaxSamples) {
+      // Samples given on the command line win over any seconds; seconds on the command line
+      // win over a suite's samples; within a suite a row's budget wins over the defaults.
+      if (!budget.forced_samples) {
+        plan.seconds = budget.forced_seconds;
+        if (!plan.seconds && !grid.samples)
+          plan.seconds = grid.seconds ? grid.seconds : budget.seconds;
+      }
+      if (plan.seconds && !(*plan.seconds > 0.0 && *plan.seconds <= kMaxSecondsPerReplicate)) {
+        throw InputError(fmt::format("{}: seconds = {} is out of range (0, {:.0e}]", grid.where,
+                                     *plan.seconds, kMaxSecondsPerReplicate));
+      }
+      if (plan.seconds) plan.samples = 0;
+      if (!plan.seconds && (plan.samples < 1 || plan.samples > kMaxSamples)) {
         throw InputError(fmt::format("{}: samples = {} is out of range [1, {}]", grid.where,
                                      plan.samples, kMaxSamples));
       }

@@ -32,6 +32,7 @@ struct GridRequest {
   std::vector<std::string> integrands = {};
   std::map<std::string, std::vector<std::string>> params = {};  // key -> values, as text
   std::optional<std::uint64_t> samples = {};
+  std::optional<double> seconds = {};  // an equal-time budget instead of samples
   std::optional<std::uint32_t> replicates = {};
   std::optional<std::string> expect = {};
   std::string where = {};  // "suites/x.json: /grid/0" or "command line"
@@ -44,18 +45,34 @@ struct BudgetDefaults {
   std::uint32_t replicates = kDefaultReplicates;
   std::optional<std::uint64_t> forced_samples = {};
   std::optional<std::uint32_t> forced_replicates = {};
+  std::optional<double> seconds = {};  // a suite's default equal-time budget
+  std::optional<double> forced_seconds = {};
 };
 
+// An equal-time budget is at most this many thread CPU seconds per replicate.
+inline constexpr double kMaxSecondsPerReplicate = 1e6;
+
 struct RunPlan {
-  std::string id;  // 16 hex digits of id_hash
+  // The run as requested: 16 hex digits of a hash of estimator, integrand, effective params,
+  // budget (samples, or seconds) and replicates.
+  std::string id;
+  // Keys the random streams: the hash of `id`, except for an equal-time run once its sample
+  // count is chosen, which uses the id of the same run with `--samples N` so that the replay
+  // gives the same numbers.
   std::uint64_t id_hash = 0;
   std::string where;
   const EstimatorEntry* estimator = nullptr;
   const IntegrandEntry* integrand = nullptr;
   ResolvedParams estimator_params;
   ResolvedParams integrand_params;
-  std::uint64_t samples = 0;
+  std::uint64_t samples = 0;  // 0 for an equal-time run until its pilot has chosen N
   std::uint32_t replicates = 0;
+  // Equal time: thread CPU seconds per replicate. A short pilot measures the cost per sample;
+  // the run then takes a fixed N from it (never stopping on a clock mid-way, which would bias
+  // estimators whose cost correlates with their value).
+  std::optional<double> seconds;
+  std::uint64_t pilot_samples = 0;    // per pilot replicate (2 replicates)
+  double pilot_cpu_per_sample = 0.0;  // what the pilot measured
   std::optional<std::string> expect;  // unset: "consistent" if there is a reference
   std::shared_ptr<const Estimator> made_estimator;
   std::shared_ptr<const Integrand> made_integrand;
@@ -68,8 +85,13 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids, const Budg
 // Sets plan.id_hash and plan.id from its estimator, integrand, effective params and budget.
 void assign_id(RunPlan& plan);
 
-// The same run with another budget: a new id, so new random numbers (sequential escalation).
+// The same run with another budget of samples: a new id, so new random numbers (sequential
+// escalation, pilots).
 RunPlan with_samples(const RunPlan& plan, std::uint64_t samples);
+
+// An equal-time run with its sample count chosen: keeps the requested id, and takes the random
+// streams of `--samples samples` (see RunPlan::id_hash).
+RunPlan with_chosen_samples(const RunPlan& plan, std::uint64_t samples);
 
 // The id of a run: a hash of estimator, integrand, effective params, samples and replicates.
 std::uint64_t run_id_hash(const std::string& estimator, const std::string& integrand,

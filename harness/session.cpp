@@ -158,6 +158,36 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, b
   return record;
 }
 
+// An equal-time run's sample count: a pilot of 2 replicates × kPilotSamples measures the thread
+// CPU seconds per sample; N = seconds / that, in whole batches, at least 1024.
+constexpr std::uint64_t kPilotSamples = 8192;
+
+RunPlan choose_samples(const RunPlan& plan, const SessionOptions& options, std::ostream& err) {
+  RunPlan pilot = with_samples(plan, kPilotSamples);
+  pilot.replicates = 2;
+  assign_id(pilot);
+  const RunResult result =
+      execute_run(pilot, {.seed = options.seed, .interrupted = options.interrupted});
+  double cpu = 0.0;
+  for (const ReplicateResult& rep : result.replicates) cpu += rep.cpu_seconds;
+  const double per_sample = cpu / static_cast<double>(2 * kPilotSamples);
+  std::uint64_t samples = 1024;
+  if (result.status == RunStatus::kOk && per_sample > 0.0) {
+    const double batches = std::floor(*plan.seconds / per_sample / kBatchSize);
+    samples = static_cast<std::uint64_t>(
+        std::clamp(batches * kBatchSize, 1024.0, static_cast<double>(kMaxSamples)));
+  }
+  if (!options.quiet) {
+    err << fmt::format("pilot {} × {}: {:.3g} µs per sample -> {} samples for {} s\n",
+                       plan.estimator->name, plan.integrand->name, 1e6 * per_sample, samples,
+                       *plan.seconds);
+  }
+  RunPlan chosen = with_chosen_samples(plan, samples);
+  chosen.pilot_samples = kPilotSamples;
+  chosen.pilot_cpu_per_sample = per_sample;
+  return chosen;
+}
+
 // Worth more samples: a test that was not rejected but came close, or a run that had too few
 // effective samples to be tested (a heavy tail stays heavy with more samples: not escalated).
 bool wants_escalation(const RunRecord& record) {
@@ -217,8 +247,14 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   std::vector<RunRecord> records;
   records.reserve(plans.size());
   bool interrupted = false;
+  std::deque<RunPlan> chosen_plans;  // stable addresses for the records that point at them
   for (const RunPlan& plan : plans) {
-    records.push_back(execute_and_test(plan, options, interrupted, err));
+    const RunPlan* to_run = &plan;
+    if (plan.seconds && !interrupted) {
+      chosen_plans.push_back(choose_samples(plan, options, err));
+      to_run = &chosen_plans.back();
+    }
+    records.push_back(execute_and_test(*to_run, options, interrupted, err));
   }
 
   // One family: the runs' tests and the pairwise comparisons, Holm at alpha (at alpha / 2 when
@@ -232,7 +268,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   for (auto& [comparison, verdict] : comparisons) family.push_back(&verdict);
   decide_family(family, options.escalate ? options.alpha / 2.0 : options.alpha);
 
-  std::deque<RunPlan> later_plans;  // stable addresses for the records that point at them
+  std::deque<RunPlan>& later_plans = chosen_plans;
   if (options.escalate) {
     const double stage_alpha =
         options.alpha / 2.0 / static_cast<double>(plans.size() * (kMaxStages - 1));

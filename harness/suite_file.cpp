@@ -55,7 +55,8 @@ class SuiteParser {
     if (root.contains("defaults")) {
       const Json& defaults = root["defaults"];
       require_object(defaults, "/defaults");
-      check_keys(defaults, "/defaults", {"samples", "replicates", "seed"});
+      check_keys(defaults, "/defaults", {"samples", "seconds", "replicates", "seed"});
+      suite.seconds = seconds_at(defaults, "/defaults");
       if (defaults.contains("samples")) {
         suite.samples = integer_at(defaults["samples"], "/defaults/samples", 1, kMaxSamples);
       }
@@ -151,10 +152,27 @@ class SuiteParser {
     return out;
   }
 
+  // An equal-time budget ("seconds": thread CPU seconds per replicate), exclusive with
+  // "samples" in the same object.
+  std::optional<double> seconds_at(const Json& object, const std::string& pointer) const {
+    if (!object.contains("seconds")) return std::nullopt;
+    if (object.contains("samples")) {
+      fail(pointer, "give \"samples\" or \"seconds\", not both");
+    }
+    const Json& value = object["seconds"];
+    if (!value.is_number() || !(value.get<double>() > 0.0) ||
+        value.get<double>() > kMaxSecondsPerReplicate) {
+      fail(pointer + "/seconds",
+           fmt::format("must be a number of seconds in (0, {:.0e}]", kMaxSecondsPerReplicate));
+    }
+    return value.get<double>();
+  }
+
   GridRequest row(const Json& value, const std::string& pointer, bool is_grid) const {
     require_object(value, pointer);
     check_keys(value, pointer,
-               {"estimator", "integrand", "params", "samples", "replicates", "expect"});
+               {"estimator", "integrand", "params", "samples", "seconds", "replicates", "expect"});
+    const std::optional<double> seconds = seconds_at(value, pointer);
     GridRequest grid;
     grid.where = fmt::format("{}: {}", file_, pointer);
     if (!value.contains("estimator")) fail(pointer, "missing \"estimator\"");
@@ -176,6 +194,7 @@ class SuiteParser {
           integer_at(value["replicates"], pointer + "/replicates", 2, kMaxReplicates));
     }
     if (value.contains("expect")) grid.expect = string_at(value["expect"], pointer + "/expect");
+    grid.seconds = seconds;
     return grid;
   }
 

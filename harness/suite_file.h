@@ -18,6 +18,7 @@ struct SuiteRequest {
   std::string name;
   std::vector<GridRequest> grids;  // rows of "runs" first, then "grid" entries, in file order
   std::optional<std::uint64_t> samples;
+  std::optional<double> seconds;  // equal-time default
   std::optional<std::uint32_t> replicates;
   std::optional<std::uint64_t> seed;
   // "compare": "pairwise": two-sample tests between every pair of runs on the same integrand

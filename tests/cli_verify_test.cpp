@@ -142,5 +142,34 @@ TEST_F(CliVerify, WithoutAReferenceEstimatorsAreComparedPairwise) {
   for (const auto& run : report["runs"]) EXPECT_EQ(run["verdict"]["result"], "inconclusive");
 }
 
+// Equal time: a pilot picks N from the CPU seconds per replicate, the report records it, the
+// id is that of the requested budget, and `--samples N` replays the same numbers.
+TEST_F(CliVerify, EqualTimeBudgetReplaysWithTheChosenSampleCount) {
+  ASSERT_EQ(cli({"run", "-e", "pcbpt", "-i", "blocker", "--seconds", "0.05", "-r", "4", "-q",
+                 "--out", at("timed")})
+                .status,
+            0);
+  const auto timed = report("timed")["runs"][0];
+  EXPECT_EQ(timed["budget"]["seconds"], 0.05);
+  EXPECT_GT(timed["budget"]["pilot_cpu_seconds_per_sample"].get<double>(), 0.0);
+  const std::uint64_t n = timed["samples"].get<std::uint64_t>();
+  EXPECT_GE(n, 1024u);
+  EXPECT_EQ(n % 256, 0u);
+  ASSERT_EQ(cli({"run", "-e", "pcbpt", "-i", "blocker", "--samples", std::to_string(n), "-r", "4",
+                 "-q", "--out", at("replay")})
+                .status,
+            0);
+  const auto replay = report("replay")["runs"][0];
+  EXPECT_NE(replay["id"], timed["id"]);
+  for (std::size_t r = 0; r < 4; ++r) {
+    EXPECT_EQ(replay["replicates"][r]["estimate"], timed["replicates"][r]["estimate"]) << r;
+  }
+  EXPECT_EQ(
+      cli({"run", "-e", "plain", "-i", "blocker", "--seconds", "1", "--samples", "10"}).status, 2);
+  std::ofstream(at("both.json"))
+      << R"({"runs": [{"estimator": "plain", "integrand": "blocker", "samples": 5, "seconds": 1}]})";
+  EXPECT_EQ(cli({"run", at("both.json")}).status, 2);
+}
+
 }  // namespace
 }  // namespace pcbench

@@ -41,7 +41,7 @@ std::string suite_with_grid(const std::string& rows) {
 }
 
 constexpr const char* kRowKeys =
-    "valid keys: estimator, integrand, params, samples, replicates, "
+    "valid keys: estimator, integrand, params, samples, seconds, replicates, "
     "expect";
 
 TEST(SuiteFileParse, ValidSuiteWithDefaultsRunsAndGrid) {
@@ -144,7 +144,7 @@ TEST(SuiteFileParse, UnknownDefaultsKeyNamesPointerAndValidKeys) {
   const std::string message =
       suite_error(R"({"defaults": {"sample": 10}, "runs": [)" + std::string(kGoodRow) + "]}");
   EXPECT_TRUE(contains(message, "/defaults/sample")) << message;
-  EXPECT_TRUE(contains(message, "valid keys: samples, replicates, seed")) << message;
+  EXPECT_TRUE(contains(message, "valid keys: samples, seconds, replicates, seed")) << message;
 }
 
 TEST(SuiteFileParse, UnknownRowKeyNamesPointerAndValidKeys) {
