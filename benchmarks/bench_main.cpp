@@ -1,12 +1,16 @@
-// Microbenchmarks (Google Benchmark). Run: build/release/pcbench_bench
+// Microbenchmarks (Google Benchmark). Run: build/release/pcbench_bench [--benchmark_filter=RE]
 #include <benchmark/benchmark.h>
+
+#include <numeric>
 
 #include "estimators/discrete_sampler.h"
 #include "estimators/registry.h"
+#include "estimators/resampling_step.h"
 #include "harness/rng.h"
 #include "harness/tally.h"
 #include "integrands/genz.h"
 #include "integrands/point_integrand.h"
+#include "integrands/registry.h"
 
 namespace pcbench {
 namespace {
@@ -90,7 +94,100 @@ void resampling_sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_BuildAndDraw<DiscreteSamplerKind::kAlias>)->Apply(resampling_sizes);
 BENCHMARK(BM_BuildAndDraw<DiscreteSamplerKind::kCdf>)->Apply(resampling_sizes);
 
+// f of 256 (light, camera) pairs through an integrand's workspace, for every analytic integrand
+// with default parameters (registered at start-up from the registry).
+void connect_benchmark(benchmark::State& state, const IntegrandEntry* entry) {
+  const auto integrand = entry->make(resolve_params(entry->params, {}, entry->name));
+  auto workspace = integrand->make_workspace();
+  workspace->sample_paths(PathSide::kLight, {.key = 1}, 0, 256, 1);
+  workspace->sample_paths(PathSide::kCamera, {.key = 2}, 0, 256, 1);
+  std::vector<PathPair> pairs(256);
+  for (std::uint32_t i = 0; i < 256; ++i) pairs[i] = {.light = i, .camera = (i * 7) % 256};
+  std::vector<double> values(256);
+  for (auto _ : state) {
+    workspace->connect(pairs, values);
+    benchmark::DoNotOptimize(values.data());
+  }
+  state.SetItemsProcessed(state.iterations() * 256);
+}
+
+// Sampling a fresh pool of M = 16 light paths for each of 256 camera samples.
+void BM_SamplePool(benchmark::State& state) {
+  const IntegrandEntry& entry = find_integrand("genz-gaussian");
+  const auto integrand = entry.make(resolve_params(entry.params, {}, entry.name));
+  auto workspace = integrand->make_workspace();
+  std::uint32_t first = 0;
+  for (auto _ : state) {
+    workspace->clear();
+    workspace->sample_paths(PathSide::kLight, {.key = 1}, first, 256, 16);
+    first += 256;
+  }
+  state.SetItemsProcessed(state.iterations() * 256 * 16);
+}
+BENCHMARK(BM_SamplePool);
+
+// The probabilistic-connections target (issue 6): per camera sample, evaluating the M
+// importances, building P and drawing K = 4 (BM_ImportanceStep) against one pass that evaluates
+// and sums the M importances (BM_ImportanceSum), on blocker (the unoccluded kernel). Argument: M.
+struct ImportanceFixture {
+  explicit ImportanceFixture(std::uint32_t m) : pairs(m), importance(m) {
+    const IntegrandEntry& entry = find_integrand("blocker");
+    integrand = entry.make(resolve_params(entry.params, {}, entry.name));
+    workspace = integrand->make_workspace();
+    workspace->sample_paths(PathSide::kLight, {.key = 1}, 0, 1, m);
+    workspace->sample_paths(PathSide::kCamera, {.key = 2}, 0, 1, 1);
+    for (std::uint32_t j = 0; j < m; ++j) pairs[j] = {.light = j, .camera = 0};
+  }
+  std::unique_ptr<Integrand> integrand;
+  std::unique_ptr<PathWorkspace> workspace;
+  std::vector<PathPair> pairs;
+  std::vector<double> importance;
+};
+
+void BM_ImportanceSum(benchmark::State& state) {
+  ImportanceFixture f(static_cast<std::uint32_t>(state.range(0)));
+  for (auto _ : state) {
+    f.workspace->importance(f.pairs, f.importance);
+    benchmark::DoNotOptimize(std::accumulate(f.importance.begin(), f.importance.end(), 0.0));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_ImportanceSum)->Arg(16)->Arg(256)->Arg(4096)->Arg(65536);
+
+void BM_ImportanceStep(benchmark::State& state) {
+  const auto m = static_cast<std::uint32_t>(state.range(0));
+  ImportanceFixture f(m);
+  const ResamplingStep step(
+      {.M = m, .K = 4, .selection = Selection::kImportance, .scheme = DrawScheme::kIndependent});
+  std::vector<double> pmf;
+  DiscreteSampler sampler;
+  std::vector<std::uint32_t> draws;
+  std::vector<Term> terms;
+  RandomStream rng({.key = 5});
+  for (auto _ : state) {
+    f.workspace->importance(f.pairs, f.importance);
+    terms.clear();
+    step.choose({.importance = f.importance}, rng, pmf, sampler, draws, terms);
+    benchmark::DoNotOptimize(terms.data());
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_ImportanceStep)->Arg(16)->Arg(256)->Arg(4096)->Arg(65536);
+
 }  // namespace
 }  // namespace pcbench
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  for (const pcbench::IntegrandEntry& entry : pcbench::integrand_registry()) {
+    const bool required = std::any_of(entry.params.begin(), entry.params.end(),
+                                      [](const pcbench::ParamSpec& p) { return p.required; });
+    if (required) continue;
+    benchmark::RegisterBenchmark(("BM_Connect/" + entry.name).c_str(), pcbench::connect_benchmark,
+                                 &entry);
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
