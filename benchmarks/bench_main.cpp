@@ -1,12 +1,16 @@
 // Microbenchmarks (Google Benchmark). Run: build/release/pcbench_bench [--benchmark_filter=RE]
 #include <benchmark/benchmark.h>
 
+#include <oneapi/tbb/global_control.h>
+
 #include <numeric>
 
 #include "estimators/discrete_sampler.h"
 #include "estimators/registry.h"
 #include "estimators/resampling_step.h"
+#include "harness/plan.h"
 #include "harness/rng.h"
+#include "harness/runner.h"
 #include "harness/tally.h"
 #include "integrands/genz.h"
 #include "integrands/point_integrand.h"
@@ -173,6 +177,50 @@ void BM_ImportanceStep(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_ImportanceStep)->Arg(16)->Arg(256)->Arg(4096)->Arg(65536);
+
+// The harness-overhead target (issue 6): `plain` on genz-gaussian through the whole runner (one
+// thread, 2 replicates x 2^18 samples) against a hand-written loop with the same integrand,
+// generator streams and accumulation. Compare items_per_second (samples per second).
+constexpr std::uint64_t kOverheadSamples = 1u << 18;
+
+void BM_HarnessPlainGenzGaussian(benchmark::State& state) {
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const RunPlan plan = plan_runs({GridRequest{.estimators = {"plain"},
+                                              .integrands = {"genz-gaussian"},
+                                              .samples = kOverheadSamples,
+                                              .replicates = 2,
+                                              .where = "benchmark"}},
+                                 {})[0];
+  for (auto _ : state) benchmark::DoNotOptimize(execute_run(plan, {.seed = 1}).replicates.data());
+  state.SetItemsProcessed(state.iterations() * 2 * kOverheadSamples);
+}
+BENCHMARK(BM_HarnessPlainGenzGaussian)->Unit(benchmark::kMillisecond);
+
+void BM_HandWrittenPlainGenzGaussian(benchmark::State& state) {
+  ResolvedParams params;
+  params.set("light_dims", std::int64_t{1});
+  params.set("camera_dims", std::int64_t{1});
+  params.set("sharpness", 4.0);
+  params.set("center", 0.5);
+  const GenzGaussian model(params);
+  for (auto _ : state) {
+    for (std::uint32_t replicate = 0; replicate < 2; ++replicate) {
+      Tally tally;
+      for (std::uint32_t s = 0; s < kOverheadSamples; ++s) {
+        RandomStream light(
+            {.key = 9, .replicate = replicate, .purpose = StreamPurpose::kLightPool, .sample = s});
+        RandomStream camera(
+            {.key = 9, .replicate = replicate, .purpose = StreamPurpose::kCameraPath, .sample = s});
+        const double x = light.uniform();
+        const double y = camera.uniform();
+        tally.add(model.f(&x, &y), s);
+      }
+      benchmark::DoNotOptimize(tally.mean());
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * 2 * kOverheadSamples);
+}
+BENCHMARK(BM_HandWrittenPlainGenzGaussian)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace pcbench

@@ -6,9 +6,17 @@
 namespace pcbench {
 
 std::vector<double> LargestValues::sorted() const {
-  std::vector<double> out = heap_;
+  std::vector<double> out = buffer_;
   std::sort(out.begin(), out.end(), std::greater<>());
+  if (out.size() > capacity_) out.resize(capacity_);
   return out;
+}
+
+void LargestValues::trim() {
+  const auto kth = buffer_.begin() + static_cast<std::ptrdiff_t>(capacity_ - 1);
+  std::nth_element(buffer_.begin(), kth, buffer_.end(), std::greater<>());
+  cut_ = *kth;  // the k-th largest: a value equal to it can no longer enter the top k
+  buffer_.resize(capacity_);
 }
 
 void Tally::merge(const Tally& later) {

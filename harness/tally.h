@@ -40,35 +40,33 @@ class CompensatedSum {
   double compensation_ = 0.0;
 };
 
-// The k largest |x| seen, kept for the tail-shape diagnostic of the verifier (a min-heap: the
-// smallest kept value is at the front, so most samples cost one comparison).
+// The k largest |x| seen, kept for the tail-shape diagnostic of the verifier. Values above the
+// current cut go to a buffer of up to 2k; when it is full, nth_element keeps the k largest and
+// raises the cut. Amortised O(1) per sample, and most samples cost one comparison.
 class LargestValues {
  public:
   explicit LargestValues(std::size_t capacity) : capacity_(capacity) {}
   static constexpr std::size_t kDefaultCapacity = 16;
 
   void add(double magnitude) {
-    if (heap_.size() < capacity_) {
-      heap_.push_back(magnitude);
-      std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
-      return;
-    }
-    if (capacity_ == 0 || magnitude <= heap_.front()) return;
-    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
-    heap_.back() = magnitude;
-    std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+    if (capacity_ == 0 || magnitude <= cut_) return;
+    buffer_.push_back(magnitude);
+    if (buffer_.size() >= 2 * capacity_) trim();
   }
   void merge(const LargestValues& other) {
-    for (double v : other.heap_) add(v);
+    for (double v : other.buffer_) add(v);
   }
-  // Largest first. The set kept is the k largest of the multiset seen, so it does not depend on
-  // the order of adds and merges.
+  // Largest first, at most k. The values kept are the k largest of the multiset seen, so they do
+  // not depend on the order of adds and merges.
   std::vector<double> sorted() const;
   std::size_t capacity() const { return capacity_; }
 
  private:
+  void trim();
+
   std::size_t capacity_;
-  std::vector<double> heap_;
+  double cut_ = -std::numeric_limits<double>::infinity();  // below it nothing can be kept
+  std::vector<double> buffer_;
 };
 
 class Tally {
