@@ -167,11 +167,12 @@ void BM_ImportanceStep(benchmark::State& state) {
   DiscreteSampler sampler;
   std::vector<std::uint32_t> draws;
   std::vector<Term> terms;
-  RandomStream rng({.key = 5});
+  StreamId stream{.key = 5};
   for (auto _ : state) {
     f.workspace->importance(f.pairs, f.importance);
     terms.clear();
-    step.choose({.importance = f.importance}, rng, pmf, sampler, draws, terms);
+    ++stream.sample;
+    step.choose({.importance = f.importance}, stream, pmf, sampler, draws, terms);
     benchmark::DoNotOptimize(terms.data());
   }
   state.SetItemsProcessed(state.iterations());

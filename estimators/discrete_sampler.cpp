@@ -57,8 +57,19 @@ std::uint32_t DiscreteSampler::draw(RandomStream& rng) const {
 std::uint32_t DiscreteSampler::index_at(double u) const {
   // First entry whose running sum exceeds the target: zero-probability entries are never chosen.
   // (The target can round up to the total; then the last entry that can be drawn is taken.)
-  const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u * cdf_.back());
-  return it == cdf_.end() ? last_positive_ : static_cast<std::uint32_t>(it - cdf_.begin());
+  const double target = u * cdf_.back();
+  std::size_t index = 0;
+  if (cdf_.size() <= kLinearSearchMax) {
+    // The running sums are sorted, so the first one above the target is at the count of those
+    // at or below it: the same index as upper_bound, without its unpredictable branches (a
+    // binary search over 16 entries cost more than the rest of the resampling step; measured
+    // with pcbench_bench --benchmark_filter=ImportanceStep).
+    for (const double c : cdf_) index += c <= target ? 1 : 0;
+  } else {
+    index =
+        static_cast<std::size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin());
+  }
+  return index == cdf_.size() ? last_positive_ : static_cast<std::uint32_t>(index);
 }
 
 }  // namespace pcbench

@@ -29,6 +29,8 @@ class DiscreteSampler {
   std::uint32_t index_at(double u) const;
 
  private:
+  static constexpr std::size_t kLinearSearchMax = 64;  // inverse CDF by counting up to here
+
   DiscreteSamplerKind kind_ = DiscreteSamplerKind::kAlias;
   std::vector<double> threshold_;     // alias: keep i with probability threshold_[i]
   std::vector<std::uint32_t> alias_;  // alias: else take alias_[i]

@@ -185,9 +185,8 @@ void ResamplingEstimator::estimate_part(const BatchContext& ctx, PathWorkspace& 
   for (std::uint32_t i = 0; i < n; ++i) {
     StreamId draw_stream = ctx.stream(StreamPurpose::kResampling);
     draw_stream.sample = ctx.first_sample + i;
-    RandomStream rng(draw_stream);
-    step_.choose(pool_view(pools, scratch, i), rng, scratch.pmf, scratch.sampler, scratch.draws,
-                 scratch.terms);
+    step_.choose(pool_view(pools, scratch, i), draw_stream, scratch.pmf, scratch.sampler,
+                 scratch.draws, scratch.terms);
     for (std::size_t t = scratch.term_offsets.back(); t < scratch.terms.size(); ++t) {
       scratch.pairs.push_back({.light = pools.pool_start(i) + scratch.terms[t].index, .camera = i});
     }

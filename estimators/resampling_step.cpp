@@ -112,9 +112,24 @@ void ResamplingStep::weigh(const PoolView& pool, std::span<const double> pmf,
                    .pmf = chosen.pmf});
 }
 
-void ResamplingStep::choose(const PoolView& pool, RandomStream& rng, std::vector<double>& pmf,
+void ResamplingStep::choose(const PoolView& pool, const StreamId& stream, std::vector<double>& pmf,
                             DiscreteSampler& sampler, std::vector<std::uint32_t>& draws,
                             std::vector<Term>& terms) const {
+  if (config_.scheme == DrawScheme::kEvery && config_.flaw == Flaw::kNone &&
+      config_.selection != Selection::kImportance) {
+    // Vertex connection (and plain): every path once, P = 1/M, no random numbers; the same
+    // coefficients weigh() computes, without its generality (this is the hot path of plain).
+    const std::uint32_t m = config_.M;
+    const double p = 1.0 / m;
+    const double coefficient = 1.0 / (static_cast<double>(m) * static_cast<double>(m)) / p;
+    pmf.assign(m, p);
+    draws.resize(m);
+    for (std::uint32_t j = 0; j < m; ++j) {
+      draws[j] = j;
+      terms.push_back({.index = j, .coefficient = coefficient, .pmf = p});
+    }
+    return;
+  }
   build_pmf(pool, pmf);
   if (std::isnan(pmf[0])) {
     // No valid P: the estimate is NaN, reported as such rather than drawn from a broken table.
@@ -122,6 +137,7 @@ void ResamplingStep::choose(const PoolView& pool, RandomStream& rng, std::vector
     for (std::uint32_t k = 0; k < count; ++k) terms.push_back({.coefficient = kNaN, .pmf = kNaN});
     return;
   }
+  RandomStream rng(stream);
   draw_indices(config_.scheme, pmf, config_.K, config_.sampler, sampler, rng, draws);
   weigh(pool, pmf, draws, terms);
 }

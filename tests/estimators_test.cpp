@@ -291,3 +291,33 @@ TEST(ResamplingNonfinite, InfiniteImportanceMakesTheRunInvalid) {
 
 }  // namespace
 }  // namespace pcbench
+
+namespace pcbench {
+namespace {
+
+// The inverse CDF (counting for small tables, binary search for large ones) is the first running
+// sum above u × total, and never an entry of probability zero.
+TEST(ResamplingSampler, IndexAtIsTheFirstRunningSumAboveTheTarget) {
+  for (const std::size_t m : {5, 64, 65, 1000}) {
+    std::vector<double> pmf(m);
+    RandomStream init({.key = static_cast<std::uint64_t>(m)});
+    for (std::size_t j = 0; j < m; ++j) pmf[j] = j % 3 == 1 ? 0.0 : init.uniform();
+    std::vector<double> cdf(m);
+    double running = 0.0;
+    for (std::size_t j = 0; j < m; ++j) cdf[j] = running += pmf[j];
+    DiscreteSampler sampler;
+    sampler.build(pmf, DiscreteSamplerKind::kCdf);
+    RandomStream rng({.key = 99});
+    for (int i = 0; i < 20000; ++i) {
+      const double u = rng.uniform();
+      const auto expected = static_cast<std::uint32_t>(
+          std::upper_bound(cdf.begin(), cdf.end(), u * cdf.back()) - cdf.begin());
+      const std::uint32_t index = sampler.index_at(u);
+      ASSERT_EQ(index, expected) << "m = " << m << ", u = " << u;
+      ASSERT_GT(pmf[index], 0.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pcbench
