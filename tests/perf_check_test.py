@@ -1,0 +1,60 @@
+#!/usr/bin/python3
+"""The regression check flags an injected slowdown and nothing else (ctest perf.check).
+
+usage: perf_check_test.py SOURCE_DIR
+Compares the committed baseline with itself (nothing flagged, exit 0), with a copy where one
+benchmark is 1.5x slower (exactly that one flagged, exit 1), and with a copy where every
+benchmark is 5% slower (within the floor: exit 0).
+"""
+import copy
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+
+def main():
+    source = sys.argv[1]
+    baseline = os.path.join(source, "results", "baseline", "bench.json")
+    script = os.path.join(source, "scripts", "check-perf.py")
+    with open(baseline, encoding="utf-8") as f:
+        report = json.load(f)
+    names = sorted({b["run_name"] for b in report["benchmarks"] if b.get("run_type") == "aggregate"})
+    victim = names[len(names) // 2]
+    failures = 0
+
+    def run(doctored, expected_status, must_name=None, what=""):
+        nonlocal failures
+        with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
+            json.dump(doctored, f)
+            path = f.name
+        result = subprocess.run([sys.executable, script, baseline, path], capture_output=True,
+                                text=True)
+        os.unlink(path)
+        ok = result.returncode == expected_status
+        slower = [line.split()[0] for line in result.stdout.splitlines() if "SLOWER" in line]
+        if must_name is not None:
+            ok = ok and slower == [must_name]
+        print(("ok      " if ok else "FAILED  ") + what + " (exit %d, flagged %s)"
+              % (result.returncode, slower))
+        failures += not ok
+
+    def scaled(factor, only=None):
+        doctored = copy.deepcopy(report)
+        for b in doctored["benchmarks"]:
+            if only is None or b["run_name"] == only:
+                for key in ("cpu_time", "real_time"):
+                    if b.get("aggregate_name") not in ("cv",):
+                        b[key] = b[key] * factor
+        return doctored
+
+    run(report, 0, what="the baseline against itself: nothing flagged")
+    run(scaled(1.5, victim), 1, victim, what="%s made 1.5x slower: flagged alone" % victim)
+    run(scaled(1.05), 0, what="everything 5% slower: within the floor, not flagged")
+    print("%d failed" % failures)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
