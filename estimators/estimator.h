@@ -4,8 +4,8 @@
 // Every estimator of the family is the seed's Eq. (2): with a pool X of M light paths and K draws
 // xi_k from a PMF P(xi | y, X),
 //     <I> = 1/(M K) Σ_k f(x_xi_k, y) / (p(x_xi_k) p(y) P(xi_k | y, X)).
-// Estimators differ in M, K and P. They record P and the draws on request, so that the verifier
-// can enumerate the resampling step exactly.
+// Estimators differ in M, K and P. They record P and the draws on request (tests read the
+// record); the exact check enumerates the resampling step itself (harness/exact_check.h).
 #pragma once
 
 #include <cstdint>
@@ -54,7 +54,7 @@ struct BatchContext {
   std::uint32_t first_sample = 0;                // a multiple of kBatchSize
   std::uint32_t sample_count = 0;                // <= kBatchSize
   Counters* counters = nullptr;                  // required
-  std::vector<ResamplingRecord>* log = nullptr;  // filled when non-null (verification)
+  std::vector<ResamplingRecord>* log = nullptr;  // filled when non-null (tests)
   // When not empty: the same estimator applied to |f|, one per sample (an unbiased estimate of
   // ∫∫ |f|, the scale against which a bias is judged small or not).
   std::span<double> magnitudes = {};
