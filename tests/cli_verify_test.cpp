@@ -143,22 +143,26 @@ TEST_F(CliVerify, WithoutAReferenceEstimatorsAreComparedPairwise) {
 }
 
 // Equal time: a pilot picks N from the CPU seconds per replicate, the report records it, the
-// id is that of the requested budget, and `--samples N` replays the same numbers.
+// id is that of the requested budget, and `--samples N` replays the same numbers. N depends on
+// the machine's speed, so the random numbers do too: the verdict is not asserted here (at
+// alpha = 0.01 it would fail one run in a hundred), only that the run finished and replays.
 TEST_F(CliVerify, EqualTimeBudgetReplaysWithTheChosenSampleCount) {
-  ASSERT_EQ(cli({"run", "-e", "pcbpt", "-i", "blocker", "--seconds", "0.05", "-r", "4", "-q",
-                 "--out", at("timed")})
-                .status,
-            0);
+  const int timed_status = cli({"run", "-e", "pcbpt", "-i", "blocker", "--seconds", "0.05", "-r",
+                                "4", "-q", "--out", at("timed")})
+                               .status;
+  ASSERT_TRUE(timed_status == 0 || timed_status == 1) << timed_status;
   const auto timed = report("timed")["runs"][0];
+  EXPECT_EQ(timed["status"], "ok");
   EXPECT_EQ(timed["budget"]["seconds"], 0.05);
   EXPECT_GT(timed["budget"]["pilot_cpu_seconds_per_sample"].get<double>(), 0.0);
   const std::uint64_t n = timed["samples"].get<std::uint64_t>();
   EXPECT_GE(n, 1024u);
   EXPECT_EQ(n % 256, 0u);
+  // The replay gives the same numbers, hence the same verdict and exit status.
   ASSERT_EQ(cli({"run", "-e", "pcbpt", "-i", "blocker", "--samples", std::to_string(n), "-r", "4",
                  "-q", "--out", at("replay")})
                 .status,
-            0);
+            timed_status);
   const auto replay = report("replay")["runs"][0];
   EXPECT_NE(replay["id"], timed["id"]);
   for (std::size_t r = 0; r < 4; ++r) {
