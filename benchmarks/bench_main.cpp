@@ -49,14 +49,14 @@ void BM_TallyAdd(benchmark::State& state) {
 }
 BENCHMARK(BM_TallyAdd);
 
+// genz-gaussian at its defaults (1 + 1 dimensions), the cheap integrand of the overhead benchmarks.
+GenzGaussian default_genz_gaussian() {
+  return GenzGaussian(resolve_params(GenzGaussian::params(), {}, "genz-gaussian"));
+}
+
 // The plain estimator on a cheap integrand, one batch per iteration.
 void BM_PlainGenzGaussianBatch(benchmark::State& state) {
-  ResolvedParams params;
-  params.set("light_dims", std::int64_t{1});
-  params.set("camera_dims", std::int64_t{1});
-  params.set("sharpness", 4.0);
-  params.set("center", 0.5);
-  const PointIntegrand<GenzGaussian> integrand{GenzGaussian(params)};
+  const PointIntegrand<GenzGaussian> integrand{default_genz_gaussian()};
   const auto estimator = find_estimator("plain").make({});
   auto workspace = integrand.make_workspace();
   EstimatorScratch scratch;
@@ -198,12 +198,7 @@ void BM_HarnessPlainGenzGaussian(benchmark::State& state) {
 BENCHMARK(BM_HarnessPlainGenzGaussian)->Unit(benchmark::kMillisecond);
 
 void BM_HandWrittenPlainGenzGaussian(benchmark::State& state) {
-  ResolvedParams params;
-  params.set("light_dims", std::int64_t{1});
-  params.set("camera_dims", std::int64_t{1});
-  params.set("sharpness", 4.0);
-  params.set("center", 0.5);
-  const GenzGaussian model(params);
+  const GenzGaussian model = default_genz_gaussian();
   for (auto _ : state) {
     for (std::uint32_t replicate = 0; replicate < 2; ++replicate) {
       Tally tally;

@@ -2,8 +2,10 @@
 // exits 2; a failure inside one run is recorded in that run and the suite goes on.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace pcbench {
 
@@ -13,6 +15,21 @@ class InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// "LINE:COLUMN" (1-based) of the byte before offset `byte` of `text`: where nlohmann-json's
+// parse_error::byte points, for error messages about JSON input.
+inline std::string line_and_column(std::string_view text, std::size_t byte) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return std::to_string(line) + ":" + std::to_string(column);
+}
 
 // Joins names as "a, b, c" for "valid choices" messages.
 template <typename Range>

@@ -316,19 +316,6 @@ std::string pointer_token(std::string_view key) {
   return out;
 }
 
-std::string line_and_column(std::string_view text, std::size_t byte) {
-  std::size_t line = 1, column = 1;
-  for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  return fmt::format("{}:{}", line, column);
-}
-
 [[noreturn]] void fail_at(const std::string& name, const std::string& pointer,
                           const std::string& why) {
   throw InputError(fmt::format("{}: {}: {}", name, pointer.empty() ? "/" : pointer, why));

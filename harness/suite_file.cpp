@@ -88,19 +88,6 @@ class SuiteParser {
     throw InputError(fmt::format("{}: {}: {}", file_, pointer.empty() ? "/" : pointer, why));
   }
 
-  static std::string line_and_column(const std::string& text, std::size_t byte) {
-    std::size_t line = 1, column = 1;
-    for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
-    return fmt::format("{}:{}", line, column);
-  }
-
   void require_object(const Json& value, const std::string& pointer) const {
     if (!value.is_object()) fail(pointer, "must be an object");
   }
