@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build git clang-format
   libtbb-dev libfmt-dev nlohmann-json3-dev libcli11-dev libmuparser-dev libboost-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libembree-dev libopenexr-dev libimath-dev openexr libtinyobjloader-dev
   python3 python3-jsonschema
 )
 
