@@ -20,18 +20,28 @@ struct Vec3 {
   constexpr bool operator==(const Vec3&) const = default;
 };
 
-constexpr Vec3 operator*(double s, const Vec3& v) { return v * s; }
-constexpr double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr Vec3 operator*(double s, const Vec3& v) {
+  return v * s;
+}
+constexpr double dot(const Vec3& a, const Vec3& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline double length(const Vec3& v) { return std::sqrt(dot(v, v)); }
-inline Vec3 normalize(const Vec3& v) { return v / length(v); }
+inline double length(const Vec3& v) {
+  return std::sqrt(dot(v, v));
+}
+inline Vec3 normalize(const Vec3& v) {
+  return v / length(v);
+}
 inline bool is_finite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 // The mirror image of direction `v` (pointing away from the surface) about normal `n`.
-inline Vec3 reflect(const Vec3& v, const Vec3& n) { return 2.0 * dot(v, n) * n - v; }
+inline Vec3 reflect(const Vec3& v, const Vec3& n) {
+  return 2.0 * dot(v, n) * n - v;
+}
 
 struct Rgb {
   double r = 0.0, g = 0.0, b = 0.0;
@@ -55,7 +65,9 @@ struct Rgb {
   constexpr double average() const { return (r + g + b) / 3.0; }
 };
 
-constexpr Rgb operator*(double s, const Rgb& c) { return c * s; }
+constexpr Rgb operator*(double s, const Rgb& c) {
+  return c * s;
+}
 
 // An orthonormal frame around a unit normal (Duff et al., "Building an orthonormal basis,
 // revisited", JCGT 2017): local z is the normal.

@@ -1,0 +1,123 @@
+#include "integrands/scenes/built_in_scenes.h"
+
+#include <cmath>
+
+namespace pcbench::scene {
+namespace {
+
+// Appends quad a-b-c-d (counter-clockwise seen from the front) as two triangles.
+void add_quad(SceneDescription& s, Vec3 a, Vec3 b, Vec3 c, Vec3 d, std::uint32_t material,
+              Rgb emission = {}) {
+  s.triangles.push_back({a, b, c, material, emission});
+  s.triangles.push_back({a, c, d, material, emission});
+}
+
+// An axis-aligned box; inward = faces seen from inside (an enclosure).
+void add_box(SceneDescription& s, Vec3 lo, Vec3 hi, std::uint32_t material, bool inward,
+             Rgb emission = {}) {
+  const Vec3 p[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z},
+                     {lo.x, hi.y, lo.z}, {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z},
+                     {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z}};
+  // Faces with outward counter-clockwise winding.
+  const int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 4, 7, 3},
+                           {1, 2, 6, 5}, {0, 1, 5, 4}, {3, 7, 6, 2}};
+  for (const auto& f : faces) {
+    if (inward) {
+      add_quad(s, p[f[3]], p[f[2]], p[f[1]], p[f[0]], material, emission);
+    } else {
+      add_quad(s, p[f[0]], p[f[1]], p[f[2]], p[f[3]], material, emission);
+    }
+  }
+}
+
+std::uint32_t add_material(SceneDescription& s, Material m) {
+  s.materials.push_back(std::move(m));
+  return static_cast<std::uint32_t>(s.materials.size() - 1);
+}
+
+SceneDescription cornell(bool glossy) {
+  SceneDescription s;
+  s.name = glossy ? "cornell-glossy" : "cornell";
+  s.source = "built-in";
+  const auto white = add_material(s, {"white", MaterialKind::kDiffuse, {0.73, 0.73, 0.73}, 0.0});
+  const auto red = add_material(s, {"red", MaterialKind::kDiffuse, {0.65, 0.05, 0.05}, 0.0});
+  const auto green = add_material(s, {"green", MaterialKind::kDiffuse, {0.12, 0.45, 0.15}, 0.0});
+  const auto shiny =
+      glossy ? add_material(s, {"shiny", MaterialKind::kPhong, {0.7, 0.7, 0.7}, 40.0}) : white;
+  const auto light = add_material(s, {"light", MaterialKind::kDiffuse, {0.78, 0.78, 0.78}, 0.0});
+  // The room [0,1] x [0,1] x [0,1.2]; the camera stands inside near the front wall z = 1.2.
+  add_quad(s, {0, 0, 0}, {0, 0, 1.2}, {1, 0, 1.2}, {1, 0, 0}, glossy ? shiny : white);  // floor
+  add_quad(s, {0, 1, 0}, {1, 1, 0}, {1, 1, 1.2}, {0, 1, 1.2}, white);                   // ceiling
+  add_quad(s, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, white);                       // back
+  add_quad(s, {0, 0, 1.2}, {0, 1, 1.2}, {1, 1, 1.2}, {1, 0, 1.2}, white);               // front
+  add_quad(s, {0, 0, 0}, {0, 1, 0}, {0, 1, 1.2}, {0, 0, 1.2}, red);                     // left
+  add_quad(s, {1, 0, 0}, {1, 0, 1.2}, {1, 1, 1.2}, {1, 1, 0}, green);                   // right
+  // The light faces down, just under the ceiling.
+  add_quad(s, {0.4, 0.99, 0.4}, {0.6, 0.99, 0.4}, {0.6, 0.99, 0.6}, {0.4, 0.99, 0.6}, light,
+           {17.0, 12.0, 4.0});
+  add_box(s, {0.55, 0.0, 0.45}, {0.8, 0.3, 0.7}, white, false);                   // short block
+  add_box(s, {0.2, 0.0, 0.2}, {0.45, 0.6, 0.45}, glossy ? shiny : white, false);  // tall block
+  s.camera = {{0.5, 0.5, 1.15}, {0.5, 0.45, 0.0}, {0.0, 1.0, 0.0}, 55.0};
+  return s;
+}
+
+SceneDescription door() {
+  SceneDescription s;
+  s.name = "door";
+  s.source = "built-in";
+  const auto white = add_material(s, {"white", MaterialKind::kDiffuse, {0.75, 0.75, 0.75}, 0.0});
+  const auto wood = add_material(s, {"wood", MaterialKind::kDiffuse, {0.6, 0.45, 0.3}, 0.0});
+  // Two rooms: A is x in [-2, 0] (the camera's), B is x in [0, 2] (the light's), both
+  // y in [0, 1.2], z in [0, 2], inside one box, split by a wall at x = 0.
+  add_box(s, {-2.0, 0.0, 0.0}, {2.0, 1.2, 2.0}, white, true);
+  // The wall, around a door opening z in [0.8, 1.2], y in [0, 0.9]. Two-sided quads.
+  add_quad(s, {0, 0, 0}, {0, 0, 0.8}, {0, 1.2, 0.8}, {0, 1.2, 0}, white);
+  add_quad(s, {0, 0, 1.2}, {0, 0, 2.0}, {0, 1.2, 2.0}, {0, 1.2, 1.2}, white);
+  add_quad(s, {0, 0.9, 0.8}, {0, 0.9, 1.2}, {0, 1.2, 1.2}, {0, 1.2, 0.8}, white);
+  // The door: hinged at z = 1.2, swung 8 degrees into room B, leaving a gap at z = 0.8.
+  const double angle = 8.0 * kPi / 180.0;
+  const Vec3 free_edge{0.4 * std::sin(angle), 0.0, 1.2 - 0.4 * std::cos(angle)};
+  add_quad(s, {0, 0, 1.2}, free_edge, free_edge + Vec3{0, 0.9, 0}, {0, 0.9, 1.2}, wood);
+  // The light: a panel under room B's ceiling, facing down.
+  add_quad(s, {1.2, 1.19, 0.6}, {1.6, 1.19, 0.6}, {1.6, 1.19, 1.4}, {1.2, 1.19, 1.4}, white,
+           {40.0, 36.0, 30.0});
+  s.camera = {{-1.9, 0.7, 1.0}, {0.0, 0.4, 1.0}, {0.0, 1.0, 0.0}, 60.0};
+  return s;
+}
+
+SceneDescription furnace() {
+  SceneDescription s;
+  s.name = "furnace";
+  s.source = "built-in";
+  const auto wall = add_material(
+      s, {"wall", MaterialKind::kDiffuse, {kFurnaceAlbedo, kFurnaceAlbedo, kFurnaceAlbedo}, 0.0});
+  add_box(s, {0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}, wall, true, kFurnaceEmission);
+  s.camera = {{0.5, 0.5, 0.9}, {0.5, 0.5, 0.0}, {0.0, 1.0, 0.0}, 60.0};
+  return s;
+}
+
+}  // namespace
+
+const std::vector<std::string>& built_in_scene_names() {
+  static const std::vector<std::string> names = {"cornell", "cornell-glossy", "door", "furnace"};
+  return names;
+}
+
+std::optional<SceneDescription> built_in_scene(const std::string& name) {
+  if (name == "cornell") return cornell(false);
+  if (name == "cornell-glossy") return cornell(true);
+  if (name == "door") return door();
+  if (name == "furnace") return furnace();
+  return std::nullopt;
+}
+
+Rgb furnace_radiance(std::uint32_t max_length) {
+  double series = 0.0, term = 1.0;
+  for (std::uint32_t k = 0; k < max_length; ++k) {
+    series += term;
+    term *= kFurnaceAlbedo;
+  }
+  return kFurnaceEmission * series;
+}
+
+}  // namespace pcbench::scene

@@ -1,0 +1,51 @@
+// Connecting a light subpath prefix of s vertices with a camera subpath prefix of t vertices,
+// with its multiple-importance-sampling weight.
+//
+// Strategy (s, t): s = 0 is a camera subpath that hits an emitter; t = 1 is light tracing (the
+// light vertex connects to the camera and lands in some pixel); the others join x_{s-1} and
+// y_{t-1} with a shadow ray. The weight is the balance heuristic over every strategy that could
+// have made the same path, each counted with the number of samples the estimator takes of it per
+// pixel and iteration (StrategyCounts). Those counts are constants of the estimator, never
+// properties of the current pool, so the weighted f stays independent of the pool (DESIGN.md).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+
+#include "integrands/scenes/path_vertex.h"
+
+namespace pcbench::scene {
+
+// Samples per pixel and iteration of each kind of strategy; 0 where the estimator lacks it.
+struct StrategyCounts {
+  double emitter_hit = 1.0;    // s = 0
+  double next_event = 1.0;     // s = 1, t >= 2
+  double connection = 1.0;     // s >= 2, t >= 2
+  double light_tracing = 0.0;  // t = 1: light paths per iteration (all splat to the image)
+
+  double count(std::uint32_t s, std::uint32_t t) const {
+    if (t == 1) return light_tracing;
+    if (s == 0) return emitter_hit;
+    if (s == 1) return next_event;
+    return connection;
+  }
+};
+
+// Balance-heuristic weight of strategy (s, t) for the path light[0..s) + camera[0..t) reversed.
+double mis_weight(const Scene& scene, std::span<const PathVertex> light,
+                  std::span<const PathVertex> camera, const StrategyCounts& counts);
+
+struct ConnectOptions {
+  bool visibility = true;  // false: the unoccluded value (importance), no shadow ray
+  bool weighted = true;    // false: no MIS weight (importance, tests)
+};
+
+// The contribution of strategy (s, t) = (light.size(), camera.size()). For t = 1, `pixel`
+// receives where it lands (nothing when it misses the image, and the result is 0).
+Rgb connect(const Scene& scene, std::span<const PathVertex> light,
+            std::span<const PathVertex> camera, const StrategyCounts& counts,
+            const ConnectOptions& options, TraceCounters& counters,
+            std::optional<PixelPosition>* pixel = nullptr);
+
+}  // namespace pcbench::scene

@@ -1,0 +1,77 @@
+#include "integrands/scenes/emitters.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pcbench::scene {
+
+double triangle_area(const Triangle& t) {
+  return 0.5 * length(cross(t.p1 - t.p0, t.p2 - t.p0));
+}
+Vec3 triangle_normal(const Triangle& t) {
+  return normalize(cross(t.p1 - t.p0, t.p2 - t.p0));
+}
+
+Emitters::Emitters(const SceneDescription& scene)
+    : scene_(scene), triangle_pdf_area_(scene.triangles.size(), 0.0) {
+  double total = 0.0;
+  for (std::uint32_t i = 0; i < scene.triangles.size(); ++i) {
+    const Triangle& t = scene.triangles[i];
+    if (t.emission.is_black()) continue;
+    const double power = kPi * triangle_area(t) * t.emission.average();
+    entries_.push_back({false, i, power});
+    total += power;
+  }
+  for (std::uint32_t i = 0; i < scene.point_lights.size(); ++i) {
+    const PointLight& light = scene.point_lights[i];
+    if (light.intensity.is_black()) continue;
+    const double power = 4.0 * kPi * light.intensity.average();
+    entries_.push_back({true, i, power});
+    total += power;
+    ++point_light_count_;
+  }
+  double running = 0.0;
+  for (Entry& e : entries_) {
+    e.probability /= total;
+    running += e.probability;
+    cdf_.push_back(running);
+    if (!e.point_light) {
+      triangle_pdf_area_[e.index] = e.probability / triangle_area(scene.triangles[e.index]);
+    }
+  }
+  if (!cdf_.empty()) cdf_.back() = 1.0;
+}
+
+double Emitters::pdf_area(std::uint32_t triangle) const {
+  return triangle_pdf_area_[triangle];
+}
+
+EmitterPoint Emitters::sample(double u_select, double u1, double u2) const {
+  const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u_select);
+  const Entry& e = entries_[std::min<std::size_t>(it - cdf_.begin(), entries_.size() - 1)];
+  EmitterPoint point;
+  if (e.point_light) {
+    const PointLight& light = scene_.point_lights[e.index];
+    point.position = light.position;
+    point.radiance = light.intensity;
+    point.pdf_area = e.probability;
+    point.point_light = true;
+    point.index = e.index;
+    return point;
+  }
+  const Triangle& t = scene_.triangles[e.index];
+  // Uniform on the triangle by folding the unit square.
+  double a = u1, b = u2;
+  if (a + b > 1.0) {
+    a = 1.0 - a;
+    b = 1.0 - b;
+  }
+  point.position = t.p0 + a * (t.p1 - t.p0) + b * (t.p2 - t.p0);
+  point.normal = triangle_normal(t);
+  point.radiance = t.emission;
+  point.pdf_area = triangle_pdf_area_[e.index];
+  point.index = e.index;
+  return point;
+}
+
+}  // namespace pcbench::scene

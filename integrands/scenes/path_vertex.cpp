@@ -1,0 +1,154 @@
+#include "integrands/scenes/path_vertex.h"
+
+#include <cmath>
+
+#include "integrands/scenes/bsdf.h"
+
+namespace pcbench::scene {
+namespace {
+
+// Converts a solid-angle density at `from` to an area density at `to`.
+double to_area(double pdf_solid_angle, const Vec3& from, const PathVertex& to) {
+  const Vec3 d = to.position - from;
+  const double distance_squared = dot(d, d);
+  if (distance_squared == 0.0) return 0.0;
+  return pdf_solid_angle * abs_cos_at(to, d / std::sqrt(distance_squared)) / distance_squared;
+}
+
+// Continues a subpath from its last vertex by BSDF sampling until it has `max_vertices`
+// vertices, leaves the scene, or a sample is invalid. `direction` and `pdf` describe the first
+// extension, already sampled by the caller (camera or emitter).
+void random_walk(const Scene& scene, RandomStream& rng, Vec3 direction, double pdf_solid_angle,
+                 Rgb beta, std::size_t max_vertices, std::vector<PathVertex>& path,
+                 std::uint64_t& rays) {
+  bool previous_delta = false;
+  while (path.size() < max_vertices) {
+    PathVertex& previous = path.back();
+    Hit hit;
+    ++rays;
+    if (!scene.intersect(previous.position, direction, hit)) return;
+    PathVertex v;
+    v.kind = VertexKind::kSurface;
+    v.position = previous.position + hit.distance * direction;
+    v.normal = scene.normal(hit.triangle);
+    v.triangle = hit.triangle;
+    v.to_previous = -direction;
+    v.beta = beta;
+    v.pdf_fwd = previous_delta ? 0.0 : to_area(pdf_solid_angle, previous.position, v);
+    const Material& material = scene.material(hit.triangle);
+    v.delta = is_delta(material);
+    path.push_back(v);
+    if (path.size() == max_vertices) return;
+
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    const BsdfSample s = bsdf_sample(material, v.normal, v.to_previous, u1, u2);
+    if (!s.valid) return;
+    beta = beta * s.f * (std::abs(dot(s.wi, v.normal)) / s.pdf);
+    if (beta.is_black()) return;
+    // The density of walking back from the next vertex to the previous one, at the previous.
+    PathVertex& current = path.back();
+    PathVertex& before = path[path.size() - 2];
+    before.pdf_rev = s.delta
+                         ? 0.0
+                         : to_area(bsdf_pdf(material, current.normal, s.wi, current.to_previous),
+                                   current.position, before);
+    direction = s.wi;
+    pdf_solid_angle = s.pdf;
+    previous_delta = s.delta;
+  }
+}
+
+}  // namespace
+
+double abs_cos_at(const PathVertex& v, const Vec3& direction) {
+  if (v.kind == VertexKind::kCamera || v.point_light) return 1.0;
+  return std::abs(dot(v.normal, direction));
+}
+
+Rgb emitted_towards(const Scene& scene, const PathVertex& v, const Vec3& target) {
+  if (v.point_light) return scene.description().point_lights[v.triangle].intensity;
+  const Triangle& t = scene.triangle(v.triangle);
+  return dot(v.normal, target - v.position) > 0.0 ? t.emission : Rgb{};
+}
+
+double pdf_area_towards(const Scene& scene, const PathVertex& v, const PathVertex* previous,
+                        const PathVertex& next) {
+  const Vec3 d = next.position - v.position;
+  const double distance = length(d);
+  if (distance == 0.0) return 0.0;
+  const Vec3 w = d / distance;
+  double pdf = 0.0;
+  if (v.kind == VertexKind::kCamera) {
+    const auto pixel = scene.camera().project(w);
+    if (!pixel) return 0.0;
+    pdf = scene.camera().pixel_pdf(pixel->cos_theta);
+  } else if (v.kind == VertexKind::kEmitter && previous == nullptr) {
+    if (v.point_light) {
+      pdf = 1.0 / (4.0 * kPi);
+    } else {
+      const double c = dot(v.normal, w);
+      pdf = c > 0.0 ? c / kPi : 0.0;
+    }
+  } else {
+    const Material& m = scene.material(v.triangle);
+    pdf = bsdf_pdf(m, v.normal, normalize(previous->position - v.position), w);
+  }
+  return to_area(pdf, v.position, next);
+}
+
+void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& rng,
+                       std::uint32_t max_length, std::vector<PathVertex>& path,
+                       TraceCounters& counters) {
+  path.clear();
+  const CameraModel& camera = scene.camera();
+  PathVertex y0;
+  y0.kind = VertexKind::kCamera;
+  y0.position = camera.position();
+  y0.beta = {1.0, 1.0, 1.0};
+  path.push_back(y0);
+  const Vec3 direction = camera.direction(fx, fy);
+  const auto pixel = camera.project(direction);
+  const double cos_theta = pixel ? pixel->cos_theta : 1.0;
+  random_walk(scene, rng, direction, camera.pixel_pdf(cos_theta), {1.0, 1.0, 1.0},
+              std::size_t{max_length} + 1, path, counters.camera_rays);
+}
+
+PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng) {
+  const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+  const EmitterPoint e = scene.emitters().sample(u0, u1, u2);
+  PathVertex x0;
+  x0.kind = VertexKind::kEmitter;
+  x0.position = e.position;
+  x0.normal = e.normal;
+  x0.point_light = e.point_light;
+  x0.pdf_fwd = e.pdf_area;
+  x0.beta = Rgb{1.0, 1.0, 1.0} / e.pdf_area;
+  x0.triangle = e.index;
+  return x0;
+}
+
+void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_length,
+                      std::vector<PathVertex>& path, TraceCounters& counters) {
+  path.clear();
+  path.push_back(sample_emitter_vertex(scene, rng));
+  if (max_length < 2) return;
+  const PathVertex& x0 = path.back();
+  const double u1 = rng.uniform(), u2 = rng.uniform();
+  Vec3 direction;
+  double pdf = 0.0;
+  if (x0.point_light) {
+    const double z = 1.0 - 2.0 * u1;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    direction = {r * std::cos(2.0 * kPi * u2), r * std::sin(2.0 * kPi * u2), z};
+    pdf = 1.0 / (4.0 * kPi);
+  } else {
+    direction = sample_cosine_hemisphere(x0.normal, u1, u2);
+    pdf = dot(direction, x0.normal) / kPi;
+    if (!(pdf > 0.0)) return;
+  }
+  const Rgb radiance = emitted_towards(scene, x0, x0.position + direction);
+  const Rgb beta = x0.beta * radiance * (abs_cos_at(x0, direction) / pdf);
+  random_walk(scene, rng, direction, pdf, beta, max_length, path, counters.light_rays);
+}
+
+}  // namespace pcbench::scene

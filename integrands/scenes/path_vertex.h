@@ -1,0 +1,80 @@
+// Subpath vertices and the random walks that make camera and light subpaths.
+//
+// Each vertex keeps the throughput of its subpath (contribution / pdf, in the solid-angle product
+// form) and two area densities for the MIS weights: pdf_fwd, of sampling it from its
+// predecessor in its own subpath, and pdf_rev, of sampling it from its successor walking the
+// other way (Veach's thesis, ch. 10; the same bookkeeping as pbrt-v4's BDPT).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "harness/rng.h"
+#include "integrands/scenes/scene.h"
+
+namespace pcbench::scene {
+
+enum class VertexKind : std::uint8_t { kCamera, kEmitter, kSurface };
+
+struct PathVertex {
+  VertexKind kind = VertexKind::kSurface;
+  Vec3 position = {};
+  Vec3 normal = {};       // geometric normal; zero at the camera and at a point light
+  Vec3 to_previous = {};  // unit direction to the previous vertex of its subpath
+  std::uint32_t triangle = 0;
+  Rgb beta = {};  // subpath throughput up to this vertex
+  double pdf_fwd = 0.0;
+  double pdf_rev = 0.0;
+  bool delta = false;        // specular scattering here
+  bool point_light = false;  // an emitter vertex that is a point light (a delta position)
+};
+
+// Work the walks and the connections did, summed into the report's counters.
+struct TraceCounters {
+  std::uint64_t camera_rays = 0;     // closest-hit rays of camera subpaths (primary included)
+  std::uint64_t light_rays = 0;      // closest-hit rays of light subpaths
+  std::uint64_t shadow_rays = 0;     // occlusion rays of connections
+  std::uint64_t connections = 0;     // connections evaluated (splats included)
+  std::uint64_t occluded = 0;        // connections a shadow ray found blocked
+  std::uint64_t skipped_zero = 0;    // no shadow ray: the unoccluded value was already 0
+  std::uint64_t skipped_convex = 0;  // no shadow ray: the scene is a convex enclosure
+  std::uint64_t splats = 0;          // light-tracing contributions that reached a pixel
+
+  void add(const TraceCounters& o) {
+    camera_rays += o.camera_rays;
+    light_rays += o.light_rays;
+    shadow_rays += o.shadow_rays;
+    connections += o.connections;
+    occluded += o.occluded;
+    skipped_zero += o.skipped_zero;
+    skipped_convex += o.skipped_convex;
+    splats += o.splats;
+  }
+};
+
+// Camera subpath through film position (fx, fy): y0 at the camera, then up to
+// max_length surface vertices. Clears `path` first.
+void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& rng,
+                       std::uint32_t max_length, std::vector<PathVertex>& path,
+                       TraceCounters& counters);
+
+// Light subpath: x0 on an emitter, then up to max_length - 1 surface vertices (a light subpath
+// of s vertices connects to the camera in a path of s segments). Clears `path` first.
+void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_length,
+                      std::vector<PathVertex>& path, TraceCounters& counters);
+
+// One emitter vertex alone (path tracing's next-event estimation).
+PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng);
+
+// Area density at `next` of sampling direction next - v from vertex v, given its own
+// predecessor (surface vertices), or from its emission (emitter vertices).
+double pdf_area_towards(const Scene& scene, const PathVertex& v, const PathVertex* previous,
+                        const PathVertex& next);
+
+// Radiance emitted from emitter point `v` (on triangle or point light) towards `target`.
+Rgb emitted_towards(const Scene& scene, const PathVertex& v, const Vec3& target);
+
+// |cos| at v of the direction to `target`; 1 at a point light or the camera.
+double abs_cos_at(const PathVertex& v, const Vec3& direction);
+
+}  // namespace pcbench::scene

@@ -1,0 +1,154 @@
+#include "integrands/scenes/scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace pcbench::scene {
+namespace {
+
+// Largest triangle count for which convexity is checked (the check is quadratic).
+constexpr std::size_t kConvexityCheckMax = 4096;
+
+double bounding_diagonal(const SceneDescription& d) {
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  auto grow = [&](const Vec3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  };
+  for (const Triangle& t : d.triangles) {
+    grow(t.p0);
+    grow(t.p1);
+    grow(t.p2);
+  }
+  grow(d.camera.position);
+  return length(hi - lo);
+}
+
+// True when every vertex, the camera and every point light lie on the front side of every
+// triangle's plane: the triangles bound one convex region seen from inside.
+bool is_convex_enclosure(const SceneDescription& d, const std::vector<Vec3>& normals,
+                         double tolerance) {
+  if (d.triangles.empty() || d.triangles.size() > kConvexityCheckMax) return false;
+  for (std::size_t i = 0; i < d.triangles.size(); ++i) {
+    const Vec3& p = d.triangles[i].p0;
+    const Vec3& n = normals[i];
+    auto behind = [&](const Vec3& q) { return dot(q - p, n) < -tolerance; };
+    if (dot(d.camera.position - p, n) <= tolerance) return false;
+    for (const PointLight& l : d.point_lights) {
+      if (behind(l.position)) return false;
+    }
+    for (const Triangle& t : d.triangles) {
+      if (behind(t.p0) || behind(t.p1) || behind(t.p2)) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+struct Scene::Embree {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  ~Embree() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+Scene::Scene(SceneDescription description)
+    : description_(std::move(description)),
+      camera_(description_.camera, description_.width, description_.height),
+      embree_(std::make_unique<Embree>()) {
+  for (const Triangle& t : description_.triangles) normals_.push_back(triangle_normal(t));
+  emitters_ = std::make_unique<Emitters>(description_);
+  const double diagonal = bounding_diagonal(description_);
+  epsilon_ = 1e-5 * diagonal;
+
+  traits_.convex_enclosure = is_convex_enclosure(description_, normals_, 1e-9 * diagonal);
+  for (const Material& m : description_.materials) {
+    traits_.has_glossy |= m.kind == MaterialKind::kPhong;
+    traits_.has_specular |= m.kind == MaterialKind::kMirror;
+  }
+  traits_.has_point_lights = emitters_->has_point_lights();
+
+  embree_->device = rtcNewDevice(nullptr);
+  if (!embree_->device) throw std::runtime_error("Embree: rtcNewDevice failed");
+  embree_->scene = rtcNewScene(embree_->device);
+  RTCGeometry geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  const std::size_t n = description_.triangles.size();
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Triangle& t = description_.triangles[i];
+    const Vec3* corners[3] = {&t.p0, &t.p1, &t.p2};
+    for (int c = 0; c < 3; ++c) {
+      vertices[9 * i + 3 * c + 0] = static_cast<float>(corners[c]->x);
+      vertices[9 * i + 3 * c + 1] = static_cast<float>(corners[c]->y);
+      vertices[9 * i + 3 * c + 2] = static_cast<float>(corners[c]->z);
+      indices[3 * i + c] = static_cast<unsigned>(3 * i + c);
+    }
+  }
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(embree_->scene, geometry);
+  rtcReleaseGeometry(geometry);
+  rtcCommitScene(embree_->scene);
+}
+
+Scene::~Scene() = default;
+
+bool Scene::intersect(const Vec3& origin, const Vec3& direction, Hit& hit,
+                      double max_distance) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray.org_x = static_cast<float>(origin.x);
+  rh.ray.org_y = static_cast<float>(origin.y);
+  rh.ray.org_z = static_cast<float>(origin.z);
+  rh.ray.dir_x = static_cast<float>(direction.x);
+  rh.ray.dir_y = static_cast<float>(direction.y);
+  rh.ray.dir_z = static_cast<float>(direction.z);
+  rh.ray.tnear = static_cast<float>(epsilon_);
+  rh.ray.tfar = static_cast<float>(std::min(max_distance, 1e30));
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(embree_->scene, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit.triangle = rh.hit.primID;
+  // The distance is recomputed in double against the triangle's plane, so that the hit point
+  // lies on the triangle to double precision (float tfar would put it off the surface).
+  const Triangle& t = description_.triangles[hit.triangle];
+  const Vec3& n = normals_[hit.triangle];
+  const double denominator = dot(direction, n);
+  hit.distance = denominator != 0.0 ? dot(t.p0 - origin, n) / denominator : rh.ray.tfar;
+  if (!(hit.distance > 0.0)) hit.distance = rh.ray.tfar;
+  return true;
+}
+
+bool Scene::occluded(const Vec3& a, const Vec3& b) const {
+  const Vec3 d = b - a;
+  const double distance = length(d);
+  if (distance <= 2.0 * epsilon_) return false;
+  const Vec3 direction = d / distance;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray{};
+  ray.org_x = static_cast<float>(a.x);
+  ray.org_y = static_cast<float>(a.y);
+  ray.org_z = static_cast<float>(a.z);
+  ray.dir_x = static_cast<float>(direction.x);
+  ray.dir_y = static_cast<float>(direction.y);
+  ray.dir_z = static_cast<float>(direction.z);
+  ray.tnear = static_cast<float>(epsilon_);
+  ray.tfar = static_cast<float>(distance - epsilon_);
+  ray.mask = 0xFFFFFFFFu;
+  rtcOccluded1(embree_->scene, &context, &ray);
+  return ray.tfar == -std::numeric_limits<float>::infinity();
+}
+
+}  // namespace pcbench::scene

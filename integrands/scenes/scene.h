@@ -1,0 +1,69 @@
+// A scene ready to trace: its description, the Embree BVH (built once, shared read-only by every
+// thread and every run of the scene), the emitters, the camera, and what the geometry and the
+// materials let the estimators skip.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "integrands/scenes/camera_model.h"
+#include "integrands/scenes/emitters.h"
+#include "integrands/scenes/scene_description.h"
+
+namespace pcbench::scene {
+
+struct Hit {
+  double distance = 0.0;
+  std::uint32_t triangle = 0;
+};
+
+// What the scene does not need, inferred from geometry and materials (never from its name).
+struct SceneTraits {
+  // Every triangle faces into one convex enclosure that holds the camera and the point lights:
+  // two points of the scene always see each other, so connections need no shadow ray.
+  bool convex_enclosure = false;
+  bool has_glossy = false;    // any Phong material
+  bool has_specular = false;  // any mirror
+  bool has_point_lights = false;
+};
+
+class Scene {
+ public:
+  explicit Scene(SceneDescription description);
+  ~Scene();
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
+
+  const SceneDescription& description() const { return description_; }
+  const SceneTraits& traits() const { return traits_; }
+  const Emitters& emitters() const { return *emitters_; }
+  const CameraModel& camera() const { return camera_; }
+  const Triangle& triangle(std::uint32_t i) const { return description_.triangles[i]; }
+  const Material& material(std::uint32_t triangle) const {
+    return description_.materials[description_.triangles[triangle].material];
+  }
+  const Vec3& normal(std::uint32_t triangle) const { return normals_[triangle]; }
+
+  // The closest hit along origin + t·direction for t in (epsilon, max_distance).
+  bool intersect(const Vec3& origin, const Vec3& direction, Hit& hit,
+                 double max_distance = 1e30) const;
+  // Whether anything lies strictly between a and b (both ends excluded by epsilon).
+  bool occluded(const Vec3& a, const Vec3& b) const;
+
+  // Distances below this count as self-intersections: a small fraction of the scene's size.
+  double epsilon() const { return epsilon_; }
+
+ private:
+  SceneDescription description_;
+  std::vector<Vec3> normals_;
+  std::unique_ptr<Emitters> emitters_;
+  CameraModel camera_;
+  SceneTraits traits_;
+  double epsilon_ = 1e-4;
+  struct Embree;
+  std::unique_ptr<Embree> embree_;
+};
+
+}  // namespace pcbench::scene
