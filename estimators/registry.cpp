@@ -5,6 +5,7 @@
 #include "estimators/family_params.h"
 #include "estimators/negative_controls.h"
 #include "estimators/resampling.h"
+#include "estimators/scene_estimators.h"
 #include "harness/errors.h"
 
 namespace pcbench {
@@ -37,6 +38,7 @@ std::vector<EstimatorEntry> make_table() {
                    Selection::kImportance, DrawScheme::kIndependent),
   };
   for (EstimatorEntry& entry : negative_control_entries()) table.push_back(std::move(entry));
+  add_scene_estimators(table);
   return table;
 }
 

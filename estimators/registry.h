@@ -11,6 +11,7 @@
 
 #include "estimators/estimator.h"
 #include "harness/params.h"
+#include "integrands/scenes/scene_render.h"
 
 namespace pcbench {
 
@@ -31,6 +32,14 @@ struct EstimatorEntry {
   std::vector<ParamSpec> params;
   std::function<std::unique_ptr<Estimator>(const ResolvedParams&)> make;
   std::optional<DeclaredWorkload> declared = {};  // set for every negative control
+  // Scenes (estimators/scene_estimators.h): the parameters the estimator reads on a scene and
+  // its render configuration. Unset: the estimator works on analytic integrands only; `make`
+  // unset: on scenes only.
+  std::vector<ParamSpec> scene_params = {};
+  std::function<scene::RenderConfig(const ResolvedParams&)> make_render = {};
+
+  bool renders_scenes() const { return static_cast<bool>(make_render); }
+  bool samples_analytic() const { return static_cast<bool>(make); }
 };
 
 const std::vector<EstimatorEntry>& estimator_registry();

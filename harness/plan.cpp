@@ -41,6 +41,31 @@ std::string names_or_none(const std::vector<ParamSpec>& specs) {
   return specs.empty() ? std::string("none") : join_names(spec_names(specs));
 }
 
+bool is_scene(const IntegrandEntry& integrand) { return integrand.has_tag("scene"); }
+
+// The parameters `estimator` reads on `integrand`; InputError when it cannot run there.
+const std::vector<ParamSpec>& estimator_specs(const EstimatorEntry& estimator,
+                                              const IntegrandEntry& integrand,
+                                              const std::string& where) {
+  if (is_scene(integrand)) {
+    if (!estimator.renders_scenes()) {
+      std::vector<std::string> able;
+      for (const EstimatorEntry& e : estimator_registry()) {
+        if (e.renders_scenes()) able.push_back(e.name);
+      }
+      throw InputError(fmt::format("{}: estimator '{}' does not render scenes ('{}' is one); "
+                                   "estimators that do: {}",
+                                   where, estimator.name, integrand.name, join_names(able)));
+    }
+    return estimator.scene_params;
+  }
+  if (!estimator.samples_analytic()) {
+    throw InputError(fmt::format("{}: estimator '{}' works on scenes only, not on '{}'", where,
+                                 estimator.name, integrand.name));
+  }
+  return estimator.params;
+}
+
 struct Row {
   const EstimatorEntry* estimator;
   const IntegrandEntry* integrand;
@@ -58,9 +83,10 @@ std::vector<Row> expand(const GridRequest& grid) {
     const EstimatorEntry& estimator = find_estimator(estimator_name);
     for (const std::string& integrand_name : grid.integrands) {
       const IntegrandEntry& integrand = find_integrand(integrand_name);
+      const std::vector<ParamSpec>& specs = estimator_specs(estimator, integrand, grid.where);
       std::vector<ParamText> partial = {{}};
       for (const auto& [key, values] : grid.params) {
-        if (!declares(estimator.params, key) && !declares(integrand.params, key)) continue;
+        if (!declares(specs, key) && !declares(integrand.params, key)) continue;
         keys_read.insert(key);
         if (values.empty())
           throw InputError(fmt::format("{}: parameter '{}' has no values", grid.where, key));
@@ -152,13 +178,17 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
       plan.where = grid.where;
       plan.estimator = row.estimator;
       plan.integrand = row.integrand;
+      const bool scene = is_scene(*row.integrand);
       plan.estimator_params =
-          resolve_params(row.estimator->params, row.params,
+          resolve_params(scene ? row.estimator->scene_params : row.estimator->params, row.params,
                          fmt::format("{}: estimator '{}'", grid.where, row.estimator->name));
       plan.integrand_params =
           resolve_params(row.integrand->params, row.params,
                          fmt::format("{}: integrand '{}'", grid.where, row.integrand->name));
-      plan.samples = budget.forced_samples.value_or(grid.samples.value_or(budget.samples));
+      // A scene's samples are per pixel; its default budget is kDefaultScenePixelSamples.
+      const std::uint64_t default_samples =
+          scene && budget.samples == kDefaultSamples ? kDefaultScenePixelSamples : budget.samples;
+      plan.samples = budget.forced_samples.value_or(grid.samples.value_or(default_samples));
       plan.replicates =
           budget.forced_replicates.value_or(grid.replicates.value_or(budget.replicates));
       // Samples given on the command line win over any seconds; seconds on the command line
@@ -207,7 +237,15 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
       const std::string where =
           fmt::format("{}: {} × {}", grid.where, row.estimator->name, row.integrand->name);
       try {
-        plan.made_estimator = row.estimator->make(plan.estimator_params);
+        if (scene) {
+          if (plan.seconds) {
+            throw InputError("an equal-time budget (seconds) is not available for scenes yet; "
+                             "give samples per pixel");
+          }
+          plan.render = row.estimator->make_render(plan.estimator_params);
+        } else {
+          plan.made_estimator = row.estimator->make(plan.estimator_params);
+        }
         plan.made_integrand = row.integrand->make(plan.integrand_params);
       } catch (const InputError& e) {
         throw InputError(fmt::format("{}: {}", where, e.what()));

@@ -18,6 +18,7 @@
 namespace pcbench {
 
 inline constexpr std::uint64_t kDefaultSamples = 100000;
+inline constexpr std::uint64_t kDefaultScenePixelSamples = 16;  // samples per pixel
 inline constexpr std::uint32_t kDefaultReplicates = 32;
 inline constexpr std::uint64_t kDefaultSeed = 1;
 // Counter layout limits of the random streams (harness/rng.h).
@@ -74,7 +75,8 @@ struct RunPlan {
   std::uint64_t pilot_samples = 0;    // per pilot replicate (2 replicates)
   double pilot_cpu_per_sample = 0.0;  // what the pilot measured
   std::optional<std::string> expect;  // unset: "consistent" if there is a reference
-  std::shared_ptr<const Estimator> made_estimator;
+  std::shared_ptr<const Estimator> made_estimator;  // analytic integrands
+  std::optional<scene::RenderConfig> render;        // scenes (made_integrand is a SceneIntegrand)
   std::shared_ptr<const Integrand> made_integrand;
 };
 

@@ -1,5 +1,7 @@
 #include "harness/runner.h"
 
+#include "harness/scene_runner.h"
+
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
 
@@ -96,6 +98,7 @@ std::uint32_t chunk_size(std::uint64_t samples) {
 }
 
 RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
+  if (plan.render) return execute_scene_run(plan, options);
   RunResult result;
   result.reference = plan.made_integrand->reference();
   if (plan.integrand->non_negative() && result.reference.kind != ReferenceKind::kNone) {

@@ -13,6 +13,7 @@
 #include "estimators/estimator.h"
 #include "harness/plan.h"
 #include "integrands/integrand.h"
+#include "results/image.h"
 
 namespace pcbench {
 
@@ -65,6 +66,10 @@ struct RunResult {
   // False where the samples of a replicate share a pool: the within-replicate variance is then
   // not an estimate of anything useful and is not reported.
   bool independent_samples = true;
+  // Scenes: each replicate's image, and the tracing counters (rays by kind, connections
+  // occluded or skipped and why) by name.
+  std::vector<Image> images = {};
+  std::vector<std::pair<std::string, std::uint64_t>> scene_counters = {};
 };
 
 struct RunnerOptions {

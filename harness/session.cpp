@@ -1,5 +1,7 @@
 #include "harness/session.h"
 
+#include "harness/scene_verification.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -80,8 +82,16 @@ Verdict verdict_for(const RunPlan& plan, const RunResult& result,
 
 std::optional<fs::path> publish_report(const std::string& report, const SessionOptions& options,
                                        std::ostream& err) {
+  return publish_report(report, options, report_folder(options), err);
+}
+
+fs::path report_folder(const SessionOptions& options) {
+  return options.out_dir ? fs::path(*options.out_dir) : default_run_folder();
+}
+
+std::optional<fs::path> publish_report(const std::string& report, const SessionOptions& options,
+                                       const fs::path& folder, std::ostream& err) {
   const bool default_folder = !options.out_dir.has_value();
-  const fs::path folder = default_folder ? default_run_folder() : fs::path(*options.out_dir);
   const fs::path report_path = folder / "report.json";
   try {
     write_file_atomically(report_path, report);
@@ -263,6 +273,10 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   if (options.compare_pairwise || options.escalate) {
     comparisons = pairwise_comparisons(records, options.compare_pairwise);
   }
+  // Scenes are always checked tile by tile: these tests decide whether estimators agree.
+  for (auto& tile : scene_tile_comparisons(records, options.alpha)) {
+    comparisons.push_back(std::move(tile));
+  }
   std::vector<Verdict*> family;
   for (RunRecord& record : records) family.push_back(record.verdict ? &*record.verdict : nullptr);
   for (auto& [comparison, verdict] : comparisons) family.push_back(&verdict);
@@ -305,10 +319,18 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     finished.push_back(comparison);
   }
   sections.comparisons = comparisons_json(finished);
-  const std::optional<fs::path> report_path =
-      publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
-                                 options.suite_name, records, sections),
-                     options, err);
+  const fs::path folder = report_folder(options);
+  std::optional<fs::path> report_path;
+  try {
+    write_scene_images(records, folder);
+    report_path =
+        publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
+                                   options.suite_name, records, sections),
+                       options, folder, err);
+  } catch (const std::exception& e) {
+    err << "pcbench: error: cannot write the images of " << folder.string() << ": " << e.what()
+        << "\n";
+  }
   if (!options.quiet) {
     print_summary(records, out);
     for (const Comparison& c : finished) {

@@ -53,6 +53,12 @@ struct SessionOptions {
 std::optional<std::filesystem::path> publish_report(const std::string& report,
                                                     const SessionOptions& options,
                                                     std::ostream& err);
+// The folder a session's report (and images) go to, and publishing into a folder chosen before.
+std::filesystem::path report_folder(const SessionOptions& options);
+std::optional<std::filesystem::path> publish_report(const std::string& report,
+                                                    const SessionOptions& options,
+                                                    const std::filesystem::path& folder,
+                                                    std::ostream& err);
 
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err);

@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <deque>
+#include <mutex>
+
 #include "harness/errors.h"
 #include "integrands/blocker.h"
 #include "integrands/door.h"
@@ -16,6 +19,7 @@
 #include "integrands/linear_emitter.h"
 #include "integrands/narrow_peak.h"
 #include "integrands/point_integrand.h"
+#include "integrands/scenes/scene_integrand.h"
 #include "integrands/singular.h"
 #include "integrands/sparse_support.h"
 
@@ -40,7 +44,8 @@ IntegrandEntry point_entry(std::string name, std::string description, bool exact
 }  // namespace
 
 const std::vector<IntegrandEntry>& integrand_registry() {
-  static const std::vector<IntegrandEntry> table = {
+  static const std::vector<IntegrandEntry> table = [] {
+    std::vector<IntegrandEntry> analytic = {
       point_entry<GenzGaussian>("genz-gaussian",
                                 "Genz Gaussian exp(-s² Σ (z_i - c)²) over z = (x, y)", true,
                                 {"genz", "non-negative"}),
@@ -81,7 +86,10 @@ const std::vector<IntegrandEntry>& integrand_registry() {
       point_entry<ExpressionModel>(
           "expr", "muparser expression f(x0.., y0..) on the unit cube; reference from 'exact'",
           false),
-  };
+    };
+    for (IntegrandEntry& entry : scene_integrand_entries()) analytic.push_back(std::move(entry));
+    return analytic;
+  }();
   return table;
 }
 
@@ -91,8 +99,20 @@ const IntegrandEntry& find_integrand(const std::string& name) {
     if (entry.name == name) return entry;
     names.push_back(entry.name);
   }
+  // A scene file: read once, then kept for the life of the process (entries are referenced).
+  if (name.size() > 5 && name.ends_with(".json")) {
+    static std::mutex mutex;
+    static std::deque<IntegrandEntry> files;
+    const std::lock_guard lock(mutex);
+    for (const IntegrandEntry& entry : files) {
+      if (entry.name == name) return entry;
+    }
+    files.push_back(scene_file_entry(name));
+    return files.back();
+  }
   throw InputError(
-      fmt::format("unknown integrand '{}'; valid integrands: {}", name, join_names(names)));
+      fmt::format("unknown integrand '{}'; valid integrands: {} (or a scene file, *.json)", name,
+                  join_names(names)));
 }
 
 }  // namespace pcbench

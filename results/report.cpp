@@ -230,6 +230,8 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
                         {"connections", c.connections},
                         {"importance_evaluations", c.importance_evaluations}}},
       {"series", series}};
+  for (const auto& [name, count] : record.result.scene_counters) run["counters"][name] = count;
+  if (record.image) run["image"] = *record.image;
   run["nonfinite_fields"] = numbers.nonfinite();
   return run;
 }

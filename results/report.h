@@ -39,6 +39,7 @@ struct RunRecord {
   Aggregates aggregates;
   SampleDiagnostics diagnostics;
   std::optional<Verdict> verdict;  // absent for runs that did not finish
+  std::optional<nlohmann::ordered_json> image = {};  // scenes: the image section, schema form
 };
 
 // The exact check of one planned run (`verify --exact`) and what it was expected to find.

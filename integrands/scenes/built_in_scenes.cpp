@@ -63,7 +63,7 @@ SceneDescription cornell(bool glossy) {
 
 SceneDescription door() {
   SceneDescription s;
-  s.name = "door";
+  s.name = "door-ajar";
   s.source = "built-in";
   const auto white = add_material(s, {"white", MaterialKind::kDiffuse, {0.75, 0.75, 0.75}, 0.0});
   const auto wood = add_material(s, {"wood", MaterialKind::kDiffuse, {0.6, 0.45, 0.3}, 0.0});
@@ -99,14 +99,14 @@ SceneDescription furnace() {
 }  // namespace
 
 const std::vector<std::string>& built_in_scene_names() {
-  static const std::vector<std::string> names = {"cornell", "cornell-glossy", "door", "furnace"};
+  static const std::vector<std::string> names = {"cornell", "cornell-glossy", "door-ajar", "furnace"};
   return names;
 }
 
 std::optional<SceneDescription> built_in_scene(const std::string& name) {
   if (name == "cornell") return cornell(false);
   if (name == "cornell-glossy") return cornell(true);
-  if (name == "door") return door();
+  if (name == "door-ajar") return door();
   if (name == "furnace") return furnace();
   return std::nullopt;
 }

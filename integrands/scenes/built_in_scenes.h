@@ -2,7 +2,7 @@
 //   cornell         a closed diffuse box (red and green side walls), a square area light just
 //                   under the ceiling, two blocks
 //   cornell-glossy  the same with a normalised-Phong floor and tall block
-//   door            two rooms joined by a door standing ajar; the light is in the far room, so
+//   door-ajar       two rooms joined by a door standing ajar; the light is in the far room, so
 //                   the camera's room is lit only through the narrow gap
 //   furnace         a closed box whose walls all emit Le and reflect with albedo ρ: every pixel
 //                   sees exactly Le · Σ_{k<L} ρ^k (furnace_radiance)

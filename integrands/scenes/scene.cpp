@@ -30,8 +30,8 @@ double bounding_diagonal(const SceneDescription& d) {
 
 // True when every vertex, the camera and every point light lie on the front side of every
 // triangle's plane: the triangles bound one convex region seen from inside.
-bool is_convex_enclosure(const SceneDescription& d, const std::vector<Vec3>& normals,
-                         double tolerance) {
+bool convex_enclosure(const SceneDescription& d, const std::vector<Vec3>& normals,
+                      double tolerance) {
   if (d.triangles.empty() || d.triangles.size() > kConvexityCheckMax) return false;
   for (std::size_t i = 0; i < d.triangles.size(); ++i) {
     const Vec3& p = d.triangles[i].p0;
@@ -49,6 +49,12 @@ bool is_convex_enclosure(const SceneDescription& d, const std::vector<Vec3>& nor
 }
 
 }  // namespace
+
+bool is_convex_enclosure(const SceneDescription& d) {
+  std::vector<Vec3> normals;
+  for (const Triangle& t : d.triangles) normals.push_back(triangle_normal(t));
+  return convex_enclosure(d, normals, 1e-9 * bounding_diagonal(d));
+}
 
 struct Scene::Embree {
   RTCDevice device = nullptr;
@@ -68,7 +74,7 @@ Scene::Scene(SceneDescription description)
   const double diagonal = bounding_diagonal(description_);
   epsilon_ = 1e-5 * diagonal;
 
-  traits_.convex_enclosure = is_convex_enclosure(description_, normals_, 1e-9 * diagonal);
+  traits_.convex_enclosure = convex_enclosure(description_, normals_, 1e-9 * diagonal);
   for (const Material& m : description_.materials) {
     traits_.has_glossy |= m.kind == MaterialKind::kPhong;
     traits_.has_specular |= m.kind == MaterialKind::kMirror;

@@ -29,6 +29,10 @@ struct SceneTraits {
   bool has_point_lights = false;
 };
 
+// Whether the triangles bound one convex region that holds the camera and the point lights
+// (SceneTraits::convex_enclosure).
+bool is_convex_enclosure(const SceneDescription& description);
+
 class Scene {
  public:
   explicit Scene(SceneDescription description);

@@ -1,0 +1,16 @@
+// The estimator family on scenes (integrands/scenes/scene_render.h): plain = BDPT, vc-all,
+// lvc and pcbpt take scene parameters and render configurations beside their analytic ones;
+// path tracing (`pt`) and light tracing (`lt`) exist on scenes only, as do the scene negative
+// controls. Scene defaults follow public practice: M in the hundreds to W·H, K 3–16.
+#pragma once
+
+#include <vector>
+
+#include "estimators/registry.h"
+
+namespace pcbench {
+
+// Gives the family's entries in `table` their scene form and appends the scene-only entries.
+void add_scene_estimators(std::vector<EstimatorEntry>& table);
+
+}  // namespace pcbench

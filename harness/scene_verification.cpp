@@ -1,0 +1,235 @@
+#include "harness/scene_verification.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <optional>
+
+#include "harness/image_statistics.h"
+#include "integrands/scenes/scene_integrand.h"
+#include "results/exr_file.h"
+
+namespace pcbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Relative MSE denominators get this floor (× the reference image's mean) so that black pixels
+// do not dominate.
+constexpr double kRelativeFloor = 1e-2;
+// Required power: a tile bias of this fraction of the tile mean is detectable at 80% power on
+// tiles brighter than 10% of the image mean.
+constexpr double kRequiredRelativeMdb = 0.05;
+
+const SceneIntegrand* scene_of(const RunRecord& r) {
+  if (!r.plan->render || r.result.status != RunStatus::kOk || r.result.images.size() < 2) {
+    return nullptr;
+  }
+  return dynamic_cast<const SceneIntegrand*>(r.plan->made_integrand.get());
+}
+
+bool same_scene(const RunRecord& a, const RunRecord& b) {
+  return a.plan->integrand == b.plan->integrand &&
+         a.plan->integrand_params.values() == b.plan->integrand_params.values();
+}
+
+// Whether the estimator samples every path of the scene that carries light: path tracing misses
+// point light → mirror paths; light tracing misses camera → mirror paths.
+bool samples_all_paths(const RunRecord& r, const scene::Scene& s) {
+  const scene::Method m = r.plan->render->method;
+  if (m == scene::Method::kPathTracing) {
+    return !(s.traits().has_point_lights && s.traits().has_specular);
+  }
+  if (m == scene::Method::kLightTracing) return !s.traits().has_specular;
+  return true;
+}
+
+Image constant_image(const scene::Scene& s, const scene::Rgb& value) {
+  Image image(s.description().width, s.description().height);
+  for (std::size_t i = 0; i < image.values.size(); ++i) image.values[i] = value[i % 3];
+  return image;
+}
+
+Verdict tile_verdict(const TileTestResult& t, std::string expect) {
+  Verdict v;
+  v.test = "tile-welch-holm";
+  v.p_value = t.min_p_adjusted;
+  v.tested = true;
+  v.expect = std::move(expect);
+  v.reason = fmt::format(
+      "{} tile×channel tests, smallest Holm-adjusted p {:.3g}; detectable tile bias ≤ {:.2f}% "
+      "of the tile mean on {} bright tiles (required ≤ {:.0f}%)",
+      t.tests, t.min_p_adjusted, 100.0 * t.worst_bright_relative_mdb, t.bright_tiles,
+      100.0 * kRequiredRelativeMdb);
+  return v;
+}
+
+Comparison tile_comparison(const RunRecord& a, std::string b_id, std::string b_name,
+                           const TileTestResult& t, std::string expect) {
+  Comparison c;
+  c.a = a.plan->id;
+  c.b = std::move(b_id);
+  c.test = "tile-welch-holm";
+  c.estimator = a.plan->estimator->name + " vs " + b_name;
+  c.integrand = a.plan->integrand->name;
+  c.p_value = t.min_p_adjusted;
+  c.expect = std::move(expect);
+  c.replicates_a = a.result.images.size();
+  return c;
+}
+
+// Adds `bias` to channel `channel` of every pixel of tile (tx, ty) in every replicate.
+std::vector<Image> with_tile_bias(std::vector<Image> images, const TileTest& tile,
+                                  std::uint32_t size, double bias) {
+  for (Image& image : images) {
+    for (std::uint32_t y = tile.tile_y * size; y < std::min(image.height, (tile.tile_y + 1) * size);
+         ++y) {
+      for (std::uint32_t x = tile.tile_x * size;
+           x < std::min(image.width, (tile.tile_x + 1) * size); ++x) {
+        image.at(x, y, tile.channel) += bias;
+      }
+    }
+  }
+  return images;
+}
+
+}  // namespace
+
+std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
+    const std::vector<RunRecord>& records, double alpha) {
+  std::vector<std::pair<Comparison, Verdict>> out;
+  std::map<const IntegrandEntry*, bool> injected;  // one self-check per scene
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const RunRecord& a = records[i];
+    const SceneIntegrand* scene = scene_of(a);
+    if (!scene) continue;
+    const bool a_biased = a.plan->estimator->biased;
+    if (scene->exact_radiance()) {
+      const TileTestResult t = test_tiles_against_exact(
+          a.result.images, constant_image(scene->scene(), *scene->exact_radiance()), alpha);
+      const std::string expect = a_biased ? "biased" : "consistent";
+      out.emplace_back(tile_comparison(a, "exact", "exact", t, expect), tile_verdict(t, expect));
+    }
+    if (!samples_all_paths(a, scene->scene())) continue;
+    for (std::size_t j = i + 1; j < records.size(); ++j) {
+      const RunRecord& b = records[j];
+      if (!scene_of(b) || !same_scene(a, b) || !samples_all_paths(b, scene->scene())) continue;
+      const int biased = a_biased + b.plan->estimator->biased;
+      if (biased == 2) continue;
+      const TileTestResult t = compare_tiles(a.result.images, b.result.images, alpha);
+      const std::string expect = biased ? "biased" : "consistent";
+      out.emplace_back(tile_comparison(a, b.plan->id, b.plan->estimator->name, t, expect),
+                       tile_verdict(t, expect));
+      // The verifier's own check: a bias of twice the reported detectable size, put into the
+      // brightest tested tile of one honest run, must be flagged.
+      if (biased == 0 && !injected[a.plan->integrand] && !t.tiles.empty()) {
+        injected[a.plan->integrand] = true;
+        const auto brightest = std::max_element(
+            t.tiles.begin(), t.tiles.end(),
+            [](const TileTest& x, const TileTest& y) { return x.mean_a < y.mean_a; });
+        const double bias = 2.0 * brightest->min_detectable_bias;
+        const TileTestResult shifted = compare_tiles(
+            with_tile_bias(a.result.images, *brightest, TileOptions{}.tile, bias),
+            b.result.images, alpha);
+        Comparison c = tile_comparison(a, b.plan->id,
+                                       b.plan->estimator->name + fmt::format(
+                                           " (tile {},{} channel {} + 2×MDB = {:.3g})",
+                                           brightest->tile_x, brightest->tile_y,
+                                           brightest->channel, bias),
+                                       shifted, "biased");
+        c.a += "+injected";
+        out.emplace_back(std::move(c), tile_verdict(shifted, "biased"));
+      }
+    }
+  }
+  return out;
+}
+
+void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder) {
+  // The best-converged honest image per scene (smallest mean standard error) is the reference
+  // where there is no exact one.
+  std::map<const IntegrandEntry*, std::pair<double, const RunRecord*>> best;
+  std::map<const RunRecord*, PixelStatistics> stats;
+  for (const RunRecord& r : records) {
+    const SceneIntegrand* scene = scene_of(r);
+    if (!scene) continue;
+    PixelStatistics s = pixel_statistics(r.result.images);
+    double se = 0.0;
+    for (double v : s.standard_error.values) se += v;
+    se /= static_cast<double>(s.standard_error.values.size());
+    auto& slot = best[r.plan->integrand];
+    if (!r.plan->estimator->biased && samples_all_paths(r, scene->scene()) &&
+        (!slot.second || se < slot.first)) {
+      slot = {se, &r};
+    }
+    stats.emplace(&r, std::move(s));
+  }
+  for (RunRecord& r : records) {
+    const SceneIntegrand* scene = scene_of(r);
+    if (!scene) continue;
+    const PixelStatistics& s = stats.at(&r);
+    std::optional<Image> reference;
+    std::string reference_kind = "none";
+    if (scene->exact_radiance()) {
+      reference = constant_image(scene->scene(), *scene->exact_radiance());
+      reference_kind = "exact";
+    } else if (const RunRecord* b = best[r.plan->integrand].second; b && b != &r) {
+      reference = stats.at(b).mean;
+      reference_kind = "run " + b->plan->id;
+    }
+    const fs::path dir = folder / "images";
+    fs::create_directories(dir);
+    const std::string stem = r.plan->id;
+    nlohmann::ordered_json files;
+    write_exr_rgb(dir / (stem + "_mean.exr"), s.mean);
+    write_exr_rgb(dir / (stem + "_stderr.exr"), s.standard_error);
+    files["mean"] = "images/" + stem + "_mean.exr";
+    files["stderr"] = "images/" + stem + "_stderr.exr";
+    nlohmann::ordered_json image = {{"width", s.mean.width}, {"height", s.mean.height}};
+    if (reference) {
+      const Image z = z_map(s, *reference);
+      write_exr_rgb(dir / (stem + "_zmap.exr"), z);
+      files["zmap"] = "images/" + stem + "_zmap.exr";
+      double mean_ref = 0.0;
+      for (double v : reference->values) mean_ref += v;
+      mean_ref /= static_cast<double>(reference->values.size());
+      // Errors of the replicate images (one replicate's cost) and of the mean over replicates.
+      auto errors = [&](const Image& x, double& mse, double& rel) {
+        mse = rel = 0.0;
+        for (std::size_t i = 0; i < x.values.size(); ++i) {
+          const double d = x.values[i] - reference->values[i];
+          const double r0 = reference->values[i] + kRelativeFloor * mean_ref;
+          mse += d * d;
+          rel += d * d / (r0 * r0);
+        }
+        mse /= static_cast<double>(x.values.size());
+        rel /= static_cast<double>(x.values.size());
+      };
+      double mse = 0.0, rel = 0.0;
+      errors(s.mean, mse, rel);
+      double rel_replicate = 0.0, cpu = 0.0;
+      for (std::size_t k = 0; k < r.result.images.size(); ++k) {
+        double m = 0.0, q = 0.0;
+        errors(r.result.images[k], m, q);
+        rel_replicate += q;
+        cpu += r.result.replicates[k].cpu_seconds;
+      }
+      rel_replicate /= static_cast<double>(r.result.images.size());
+      cpu /= static_cast<double>(r.result.images.size());
+      image["reference"] = reference_kind;
+      image["rmse"] = std::sqrt(mse);
+      image["rel_mse"] = rel;
+      image["rel_mse_per_replicate"] = rel_replicate;
+      image["cpu_seconds_per_replicate"] = cpu;
+      // Relative MSE of one CPU second's worth of this estimator (error × cost: equal time).
+      image["rel_mse_at_1_cpu_second"] = rel_replicate * cpu;
+      image["efficiency"] = rel_replicate * cpu > 0.0 ? 1.0 / (rel_replicate * cpu) : 0.0;
+    }
+    image["files"] = files;
+    r.image = std::move(image);
+  }
+}
+
+}  // namespace pcbench

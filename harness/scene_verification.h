@@ -1,0 +1,25 @@
+// Verification of scene runs: per 8×8 tile two-sample tests between every pair of independent
+// estimators on the same scene (Welch on the replicates' tile means, Holm over tiles and
+// channels), tile tests against the exact image where the scene has one (a furnace), a check
+// that the tile test flags a bias of twice its reported detectable size, and the image section
+// of each run (EXR files, RMSE and relative MSE, equal-time relative MSE).
+#pragma once
+
+#include <filesystem>
+#include <utility>
+#include <vector>
+
+#include "harness/report_compare.h"
+#include "harness/statistics.h"
+#include "results/report.h"
+
+namespace pcbench {
+
+// The tile tests of a session's scene runs, as comparisons for the session's family.
+std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
+    const std::vector<RunRecord>& records, double alpha);
+
+// Writes each scene run's EXR files under folder/images/ and fills its `image` section.
+void write_scene_images(std::vector<RunRecord>& records, const std::filesystem::path& folder);
+
+}  // namespace pcbench
