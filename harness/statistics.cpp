@@ -105,8 +105,8 @@ std::vector<double> holm_adjusted(std::span<const double> p_values) {
   return adjusted;
 }
 
-double detectable_multiplier(double share, double dof) {
-  return t_quantile(1.0 - share / 2.0, dof) + t_quantile(kPower, dof);
+double detectable_multiplier(double share, double dof, double power) {
+  return t_quantile(1.0 - share / 2.0, dof) + t_quantile(power, dof);
 }
 
 std::vector<SeriesPoint> convergence_series(const std::vector<ReplicateResult>& replicates,

@@ -157,8 +157,8 @@ Verdict two_sample_verdict(const TwoSampleTest& test, std::string expect);
 std::vector<double> holm_adjusted(std::span<const double> p_values);
 
 // t_{1 - share/2, dof} + t_{power, dof}: times a test's standard error, the smallest difference a
-// two-sided test at level `share` detects with probability kPower (normal-theory approximation
+// two-sided test at level `share` detects with probability `power` (normal-theory approximation
 // with Student quantiles).
-double detectable_multiplier(double share, double dof);
+double detectable_multiplier(double share, double dof, double power = kPower);
 
 }  // namespace pcbench
