@@ -57,8 +57,11 @@ void give_scene_form(EstimatorEntry& e, std::vector<ParamSpec> params, RenderCon
 
 EstimatorEntry scene_only(std::string name, std::string description, std::vector<ParamSpec> params,
                           RenderConfig base, bool biased = false) {
-  EstimatorEntry e{.name = std::move(name), .description = std::move(description),
-                   .biased = biased};
+  EstimatorEntry e{.name = std::move(name),
+                   .description = std::move(description),
+                   .biased = biased,
+                   .params = {},
+                   .make = {}};
   give_scene_form(e, std::move(params), base);
   return e;
 }
@@ -88,18 +91,21 @@ void add_scene_estimators(std::vector<EstimatorEntry>& table) {
       "ctl-scene-visible-only",
       "scenes: pcbpt with importance zero where the tile's cache point sees no light, no mixing",
       {light_paths_spec(1024), vertex_draws_spec(), tile_spec()},
-      {.method = Method::kProbabilistic, .light_paths = 1024, .uniform_mix = 0.0,
+      {.method = Method::kProbabilistic,
+       .light_paths = 1024,
+       .uniform_mix = 0.0,
        .flaw = SceneFlaw::kVisibleOnlyImportance},
       true);
   visible.declared = DeclaredWorkload{.integrand = "door-ajar", .samples = 16, .replicates = 16};
   table.push_back(std::move(visible));
-  EstimatorEntry per_vertex = scene_only(
-      "ctl-scene-lvc-per-vertex",
-      "scenes: the light vertex cache normalised by vertices instead of paths",
-      {light_paths_spec(1024), vertex_draws_spec()},
-      {.method = Method::kLightVertexCache, .light_paths = 1024,
-       .flaw = SceneFlaw::kPerVertexNormalisation},
-      true);
+  EstimatorEntry per_vertex =
+      scene_only("ctl-scene-lvc-per-vertex",
+                 "scenes: the light vertex cache normalised by vertices instead of paths",
+                 {light_paths_spec(1024), vertex_draws_spec()},
+                 {.method = Method::kLightVertexCache,
+                  .light_paths = 1024,
+                  .flaw = SceneFlaw::kPerVertexNormalisation},
+                 true);
   per_vertex.declared = DeclaredWorkload{.integrand = "cornell", .samples = 16, .replicates = 16};
   table.push_back(std::move(per_vertex));
 }

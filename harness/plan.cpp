@@ -41,7 +41,9 @@ std::string names_or_none(const std::vector<ParamSpec>& specs) {
   return specs.empty() ? std::string("none") : join_names(spec_names(specs));
 }
 
-bool is_scene(const IntegrandEntry& integrand) { return integrand.has_tag("scene"); }
+bool is_scene(const IntegrandEntry& integrand) {
+  return integrand.has_tag("scene");
+}
 
 // The parameters `estimator` reads on `integrand`; InputError when it cannot run there.
 const std::vector<ParamSpec>& estimator_specs(const EstimatorEntry& estimator,
@@ -53,9 +55,10 @@ const std::vector<ParamSpec>& estimator_specs(const EstimatorEntry& estimator,
       for (const EstimatorEntry& e : estimator_registry()) {
         if (e.renders_scenes()) able.push_back(e.name);
       }
-      throw InputError(fmt::format("{}: estimator '{}' does not render scenes ('{}' is one); "
-                                   "estimators that do: {}",
-                                   where, estimator.name, integrand.name, join_names(able)));
+      throw InputError(
+          fmt::format("{}: estimator '{}' does not render scenes ('{}' is one); "
+                      "estimators that do: {}",
+                      where, estimator.name, integrand.name, join_names(able)));
     }
     return estimator.scene_params;
   }
@@ -239,8 +242,9 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
       try {
         if (scene) {
           if (plan.seconds) {
-            throw InputError("an equal-time budget (seconds) is not available for scenes yet; "
-                             "give samples per pixel");
+            throw InputError(
+                "an equal-time budget (seconds) is not available for scenes yet; "
+                "give samples per pixel");
           }
           plan.render = row.estimator->make_render(plan.estimator_params);
         } else {

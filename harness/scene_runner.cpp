@@ -71,11 +71,12 @@ RunResult execute_scene_run(const RunPlan& plan, const RunnerOptions& options) {
     result.error = e.what();
     return result;
   }
-  const std::uint64_t pixels = integrand.scene().description().width *
-                               std::uint64_t{integrand.scene().description().height};
-  result.counters.camera_paths =
-      plan.render->method == scene::Method::kLightTracing ? 0 : pixels * plan.samples *
-                                                                    plan.replicates;
+  const std::uint64_t pixels =
+      integrand.scene().description().width * std::uint64_t{integrand.scene().description().height};
+  result.counters.camera_paths = plan.render->method == scene::Method::kLightTracing
+                                     ? 0
+                                     : pixels * plan.samples * plan.replicates;
+  result.counters.light_paths = counters.light_paths;
   result.counters.connections = counters.connections;
   result.scene_counters = {{"camera_rays", counters.camera_rays},
                            {"light_rays", counters.light_rays},

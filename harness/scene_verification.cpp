@@ -130,15 +130,15 @@ std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
             t.tiles.begin(), t.tiles.end(),
             [](const TileTest& x, const TileTest& y) { return x.mean_a < y.mean_a; });
         const double bias = 2.0 * brightest->min_detectable_bias;
-        const TileTestResult shifted = compare_tiles(
-            with_tile_bias(a.result.images, *brightest, TileOptions{}.tile, bias),
-            b.result.images, alpha);
-        Comparison c = tile_comparison(a, b.plan->id,
-                                       b.plan->estimator->name + fmt::format(
-                                           " (tile {},{} channel {} + 2×MDB = {:.3g})",
-                                           brightest->tile_x, brightest->tile_y,
-                                           brightest->channel, bias),
-                                       shifted, "biased");
+        const TileTestResult shifted =
+            compare_tiles(with_tile_bias(a.result.images, *brightest, TileOptions{}.tile, bias),
+                          b.result.images, alpha);
+        Comparison c = tile_comparison(
+            a, b.plan->id,
+            b.plan->estimator->name + fmt::format(" (tile {},{} channel {} + 2×MDB = {:.3g})",
+                                                  brightest->tile_x, brightest->tile_y,
+                                                  brightest->channel, bias),
+            shifted, "biased");
         c.a += "+injected";
         out.emplace_back(std::move(c), tile_verdict(shifted, "biased"));
       }

@@ -38,7 +38,7 @@ struct RunRecord {
   RunResult result;
   Aggregates aggregates;
   SampleDiagnostics diagnostics;
-  std::optional<Verdict> verdict;  // absent for runs that did not finish
+  std::optional<Verdict> verdict;                    // absent for runs that did not finish
   std::optional<nlohmann::ordered_json> image = {};  // scenes: the image section, schema form
 };
 

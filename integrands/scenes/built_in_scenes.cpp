@@ -99,7 +99,8 @@ SceneDescription furnace() {
 }  // namespace
 
 const std::vector<std::string>& built_in_scene_names() {
-  static const std::vector<std::string> names = {"cornell", "cornell-glossy", "door-ajar", "furnace"};
+  static const std::vector<std::string> names = {"cornell", "cornell-glossy", "door-ajar",
+                                                 "furnace"};
   return names;
 }
 

@@ -130,6 +130,7 @@ PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng) {
 void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_length,
                       std::vector<PathVertex>& path, TraceCounters& counters) {
   path.clear();
+  ++counters.light_paths;
   path.push_back(sample_emitter_vertex(scene, rng));
   if (max_length < 2) return;
   const PathVertex& x0 = path.back();

@@ -31,6 +31,7 @@ struct PathVertex {
 
 // Work the walks and the connections did, summed into the report's counters.
 struct TraceCounters {
+  std::uint64_t light_paths = 0;     // light subpaths traced
   std::uint64_t camera_rays = 0;     // closest-hit rays of camera subpaths (primary included)
   std::uint64_t light_rays = 0;      // closest-hit rays of light subpaths
   std::uint64_t shadow_rays = 0;     // occlusion rays of connections
@@ -41,6 +42,7 @@ struct TraceCounters {
   std::uint64_t splats = 0;          // light-tracing contributions that reached a pixel
 
   void add(const TraceCounters& o) {
+    light_paths += o.light_paths;
     camera_rays += o.camera_rays;
     light_rays += o.light_rays;
     shadow_rays += o.shadow_rays;

@@ -39,8 +39,8 @@ std::uint32_t parse_side(std::string_view text, const std::string& whole) {
   std::uint32_t v = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
   if (ec != std::errc() || end != text.data() + text.size() || v < 1 || v > 8192) {
-    throw InputError(fmt::format(
-        "resolution '{}' is not N or WxH with W and H integers in [1, 8192]", whole));
+    throw InputError(
+        fmt::format("resolution '{}' is not N or WxH with W and H integers in [1, 8192]", whole));
   }
   return v;
 }
@@ -59,8 +59,7 @@ std::pair<std::uint32_t, std::uint32_t> parse_resolution(const std::string& text
 std::shared_ptr<const scene::Scene> shared_scene(const scene::SceneDescription& base,
                                                  const ResolvedParams& params) {
   static std::mutex mutex;
-  static std::map<std::tuple<std::string, std::string, std::uint32_t, std::uint32_t,
-                             std::uint32_t>,
+  static std::map<std::tuple<std::string, std::string, std::uint32_t, std::uint32_t, std::uint32_t>,
                   std::shared_ptr<const scene::Scene>>
       cache;
   scene::SceneDescription d = base;
@@ -76,8 +75,7 @@ std::shared_ptr<const scene::Scene> shared_scene(const scene::SceneDescription& 
   return slot;
 }
 
-IntegrandEntry entry_for(scene::SceneDescription description, std::string name,
-                         std::string text) {
+IntegrandEntry entry_for(scene::SceneDescription description, std::string name, std::string text) {
   auto shared = std::make_shared<const scene::SceneDescription>(std::move(description));
   return {.name = std::move(name),
           .description = std::move(text),
@@ -167,6 +165,8 @@ IntegrandEntry scene_file_entry(const std::string& path) {
   return entry_for(std::move(d), path, "scene file " + path);
 }
 
-std::uint64_t scene_builds() { return builds.load(); }
+std::uint64_t scene_builds() {
+  return builds.load();
+}
 
 }  // namespace pcbench
