@@ -72,9 +72,9 @@ struct RunPlan {
   // the run then takes a fixed N from it (never stopping on a clock mid-way, which would bias
   // estimators whose cost correlates with their value).
   std::optional<double> seconds;
-  std::uint64_t pilot_samples = 0;    // per pilot replicate (2 replicates)
-  double pilot_cpu_per_sample = 0.0;  // what the pilot measured
-  std::optional<std::string> expect;  // unset: "consistent" if there is a reference
+  std::uint64_t pilot_samples = 0;                  // per pilot replicate (2 replicates)
+  double pilot_cpu_per_sample = 0.0;                // what the pilot measured
+  std::optional<std::string> expect;                // unset: "consistent" if there is a reference
   std::shared_ptr<const Estimator> made_estimator;  // analytic integrands
   std::optional<scene::RenderConfig> render;        // scenes (made_integrand is a SceneIntegrand)
   std::shared_ptr<const Integrand> made_integrand;
