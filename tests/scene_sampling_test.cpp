@@ -175,7 +175,7 @@ std::vector<double> bin_probabilities(const Material& m, const Vec3& normal, con
 struct SampledLobe {
   std::vector<double> counts = std::vector<double>(kBins + 1, 0.0);
   std::uint64_t outside = 0;  // valid samples outside the lobe's hemisphere
-  double max_pdf_error = 0.0, max_f_error = 0.0;
+  double max_length_error = 0.0, max_pdf_error = 0.0, max_f_error = 0.0;
   Rgb energy, energy_stderr;
 };
 
@@ -192,6 +192,7 @@ SampledLobe sample_lobe(const Material& m, const Vec3& normal, const Vec3& wo, s
       out.counts[kBins] += 1.0;
       continue;
     }
+    out.max_length_error = std::max(out.max_length_error, std::abs(length(s.wi) - 1.0));
     const double pdf = bsdf_pdf(m, normal, wo, s.wi);
     out.max_pdf_error = std::max(out.max_pdf_error, std::abs(s.pdf - pdf) / pdf);
     const Rgb f = bsdf_eval(m, normal, wo, s.wi);
@@ -230,6 +231,7 @@ void check_lobe_sampling(const Material& m, std::uint64_t seed) {
     EXPECT_NEAR(total, 1.0, 1e-6);
     const SampledLobe s = sample_lobe(m, test_normal(), wo, seed++);
     EXPECT_EQ(s.outside, 0u);
+    EXPECT_LT(s.max_length_error, 1e-12);  // unit directions
     EXPECT_LT(s.max_pdf_error, 1e-12);
     EXPECT_LT(s.max_f_error, 1e-12);
     const double p_value = chi_square_p_value(s.counts, p);
@@ -267,6 +269,26 @@ TEST(SceneSamplingBsdf, PhongMatchesPdf) {
     check_lobe_sampling(phong_material(exponent), seed);
     seed += 100;
   }
+}
+
+// The shading frame (which both the BSDFs and these tests use) is orthonormal with n as z, also
+// at the normal -z where Duff et al.'s construction switches sign.
+TEST(SceneSamplingBsdf, FrameIsOrthonormal) {
+  RandomStream rng({.key = 900});
+  std::vector<Vec3> normals = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0}, test_normal()};
+  for (int i = 0; i < 1000; ++i) {
+    const double z = 1.0 - 2.0 * rng.uniform(), phi = 2.0 * kPi * rng.uniform();
+    const double r = std::sqrt(1.0 - z * z);
+    normals.push_back({r * std::cos(phi), r * std::sin(phi), z});
+  }
+  int bad = 0;
+  for (const Vec3& n : normals) {
+    const Frame f(n);
+    bad += std::abs(length(f.s) - 1.0) > 1e-12 || std::abs(length(f.t) - 1.0) > 1e-12 ||
+           std::abs(dot(f.s, f.t)) > 1e-12 || std::abs(dot(f.s, n)) > 1e-12 ||
+           std::abs(dot(f.t, n)) > 1e-12 || length(cross(f.s, f.t) - n) > 1e-12;
+  }
+  EXPECT_EQ(bad, 0);
 }
 
 // Grazing Phong lobes lose much of their mass below the surface; the test above must then
