@@ -32,6 +32,37 @@ double chi_square_uniform_p_value(const std::vector<double>& counts) {
   return boost::math::cdf(boost::math::complement(distribution, statistic));
 }
 
+double chi_square_p_value(const std::vector<double>& observed,
+                          const std::vector<double>& probabilities) {
+  if (observed.size() != probabilities.size()) {
+    throw std::invalid_argument("chi_square_p_value: sizes differ");
+  }
+  constexpr double kMinExpected = 5.0;
+  const double total = std::accumulate(observed.begin(), observed.end(), 0.0);
+  std::vector<double> group_observed, group_expected;
+  double o = 0.0, e = 0.0;
+  for (std::size_t i = 0; i < observed.size(); ++i) {
+    o += observed[i];
+    e += probabilities[i] * total;
+    if (e >= kMinExpected) {
+      group_observed.push_back(o);
+      group_expected.push_back(e);
+      o = e = 0.0;
+    }
+  }
+  if (group_expected.empty()) throw std::invalid_argument("chi_square_p_value: too few samples");
+  group_observed.back() += o;
+  group_expected.back() += e;
+  if (group_expected.size() < 2) return 1.0;  // one group: nothing to test
+  double statistic = 0.0;
+  for (std::size_t g = 0; g < group_expected.size(); ++g) {
+    const double d = group_observed[g] - group_expected[g];
+    statistic += d * d / group_expected[g];
+  }
+  const boost::math::chi_squared distribution(static_cast<double>(group_expected.size() - 1));
+  return boost::math::cdf(boost::math::complement(distribution, statistic));
+}
+
 TemporaryFolder::TemporaryFolder() {
   std::string pattern = (std::filesystem::temp_directory_path() / "pcbench-test-XXXXXX").string();
   if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");

@@ -20,6 +20,13 @@ RunPlan plan_single(const std::string& estimator, const std::string& integrand,
 // p-value of Pearson's chi-square test that `counts` come from equal-probability bins.
 double chi_square_uniform_p_value(const std::vector<double>& counts);
 
+// p-value of Pearson's chi-square test that `observed` counts come from bins of the given
+// `probabilities` (summing to 1). Bins expected to hold fewer than 5 are pooled with the bins that
+// follow them (a short last group joins the one before), so that the chi-square approximation
+// holds; the degrees of freedom are the pooled groups less one.
+double chi_square_p_value(const std::vector<double>& observed,
+                          const std::vector<double>& probabilities);
+
 // A fresh, empty temporary folder, removed when the object goes out of scope.
 class TemporaryFolder {
  public:

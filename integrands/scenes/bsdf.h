@@ -2,8 +2,9 @@
 // materials (scene_description.h). Surfaces scatter on both sides: the normal is flipped to the
 // side of `wo` first, and light passing to the other side is not scattered (no transmission).
 //
-// Directions point away from the surface. The pdf is symmetric in (wo, wi) for every material
-// here, which the MIS weights rely on when they ask for the reverse pdf.
+// Directions point away from the surface. f is symmetric in (wo, wi); the pdf is not (the
+// diffuse one is cos θi / π), so a reverse density is asked for with the arguments swapped, as
+// path_vertex.cpp does.
 #pragma once
 
 #include "integrands/scenes/scene_description.h"

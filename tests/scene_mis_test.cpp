@@ -1,0 +1,535 @@
+// The multiple-importance-sampling weights and connections of the scene code, on full paths
+// z_0 .. z_k (z_0 at the camera, z_k on an emitter) taken from real subpaths:
+//   - mis_weight gives strategy (s, t), s + t = k + 1, the balance heuristic n_s p_s / Σ n p
+//     over the strategies of each method's StrategyCounts (p: the product of the vertices' area
+//     densities as that strategy samples them), so the weights sum to 1;
+//   - connect()'s unweighted value is the path's contribution f(z) divided by p_s;
+//   - the walks' bookkeeping (pdf_fwd, pdf_rev, beta) matches the path.
+// The densities and contributions here are computed from the vertex positions, apart from
+// path_vertex.cpp and connection.cpp. Last, every method renders the built-in furnace to its
+// exact radiance (SceneRenderFurnace), and the image does not depend on the thread count.
+//
+// Error budget: only SceneRenderFurnace is statistical: 6 methods × 3 channels t tests, each
+// asserting p > 1e-4, so a correct renderer fails by chance with probability at most
+// 18 × 1e-4 = 1.8e-3 (Bonferroni). The seeds are fixed.
+
+#include <gtest/gtest.h>
+
+#include <oneapi/tbb/global_control.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/rng.h"
+#include "harness/statistics.h"
+#include "integrands/scenes/bsdf.h"
+#include "integrands/scenes/built_in_scenes.h"
+#include "integrands/scenes/connection.h"
+#include "integrands/scenes/path_vertex.h"
+#include "integrands/scenes/scene.h"
+#include "integrands/scenes/scene_render.h"
+
+namespace pcbench::scene {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Full paths and their densities, from positions
+
+// z[0] at the camera, z[1 .. k-1] on surfaces, z[k] on the front of an emitting triangle or at a
+// point light. The vertices keep what the walk that made them recorded (pdf_fwd, pdf_rev, beta).
+struct FullPath {
+  std::vector<PathVertex> z;
+  bool point_light = false;
+  bool from_camera = true;  // a camera subpath's prefix; otherwise a light subpath reversed
+  std::size_t k() const { return z.size() - 1; }
+};
+
+Vec3 unit(const Vec3& from, const Vec3& to) {
+  return normalize(to - from);
+}
+
+// |cos| at vertex i of the direction w: 1 at the camera and at a point light.
+double abs_cos(const FullPath& p, std::size_t i, const Vec3& w) {
+  if (i == 0 || (i == p.k() && p.point_light)) return 1.0;
+  return std::abs(dot(p.z[i].normal, w));
+}
+
+double geometry(const FullPath& p, std::size_t a, std::size_t b) {
+  const Vec3 d = p.z[b].position - p.z[a].position;
+  const Vec3 w = normalize(d);
+  return abs_cos(p, a, w) * abs_cos(p, b, w) / dot(d, d);
+}
+
+double camera_cos(const Scene& scene, const Vec3& w) {
+  const Camera& c = scene.description().camera;
+  return dot(w, normalize(c.look_at - c.position));
+}
+
+// f at surface vertex i between its neighbours `from` and `to` (path indices).
+Rgb scattering(const Scene& scene, const FullPath& p, std::size_t i, std::size_t from,
+               std::size_t to) {
+  const PathVertex& v = p.z[i];
+  return bsdf_eval(scene.material(v.triangle), v.normal, unit(v.position, p.z[from].position),
+                   unit(v.position, p.z[to].position));
+}
+
+Rgb emission(const Scene& scene, const FullPath& p) {
+  const PathVertex& e = p.z[p.k()];
+  if (p.point_light) return scene.description().point_lights[e.triangle].intensity;
+  const bool front = dot(e.normal, p.z[p.k() - 1].position - e.position) > 0.0;
+  return front ? scene.triangle(e.triangle).emission : Rgb{};
+}
+
+// Probability of choosing the path's emitter, by power, over the area of a triangle.
+double emitter_density(const Scene& scene, const FullPath& p) {
+  const SceneDescription& d = scene.description();
+  double total = 0.0;
+  for (const Triangle& t : d.triangles) total += kPi * triangle_area(t) * t.emission.average();
+  for (const PointLight& l : d.point_lights) total += 4.0 * kPi * l.intensity.average();
+  const std::uint32_t index = p.z[p.k()].triangle;
+  if (p.point_light) return 4.0 * kPi * d.point_lights[index].intensity.average() / total;
+  return kPi * d.triangles[index].emission.average() / total;  // (π A L / total) / A
+}
+
+// Area density at vertex `to` of sampling it from vertex `at`, which was reached from `from`
+// (from < 0: `at` starts its subpath, at the camera or the emitter).
+double area_density(const Scene& scene, const FullPath& p, std::size_t at, int from,
+                    std::size_t to) {
+  const PathVertex& v = p.z[at];
+  const Vec3 w = unit(v.position, p.z[to].position);
+  double solid_angle = 0.0;
+  if (from < 0 && at == 0) {
+    solid_angle = scene.camera().pixel_pdf(camera_cos(scene, w));
+  } else if (from < 0 && p.point_light) {
+    solid_angle = 1.0 / (4.0 * kPi);
+  } else if (from < 0) {
+    solid_angle = std::max(0.0, dot(v.normal, w)) / kPi;
+  } else {
+    solid_angle = bsdf_pdf(scene.material(v.triangle), v.normal,
+                           unit(v.position, p.z[static_cast<std::size_t>(from)].position), w);
+  }
+  const Vec3 d = p.z[to].position - v.position;
+  return solid_angle * abs_cos(p, to, w) / dot(d, d);
+}
+
+// Everything about one path that the strategies' densities and values are made of.
+struct PathFacts {
+  std::vector<double> camera_pdf;  // [i]: z_i sampled from z_{i-1} walking from the camera
+  std::vector<double> light_pdf;   // [i]: z_i sampled walking from the emitter; [k]: the emitter
+  std::vector<Rgb> camera_beta;    // throughput of the camera prefix z_0 .. z_i
+  std::vector<Rgb> light_beta;     // throughput of the light prefix z_k .. z_i
+  Rgb contribution;                // f(z): emission, BSDFs, geometry, camera importance
+};
+
+PathFacts facts(const Scene& scene, const FullPath& p) {
+  const std::size_t k = p.k();
+  PathFacts f;
+  f.camera_pdf.assign(k + 1, 0.0);
+  f.light_pdf.assign(k + 1, 0.0);
+  for (std::size_t i = 1; i <= k; ++i) {
+    f.camera_pdf[i] = area_density(scene, p, i - 1, static_cast<int>(i) - 2, i);
+  }
+  f.light_pdf[k] = emitter_density(scene, p);
+  for (std::size_t i = k; i-- > 0;) {
+    f.light_pdf[i] = area_density(scene, p, i + 1, i + 1 == k ? -1 : static_cast<int>(i) + 2, i);
+  }
+  // W_j cos at the camera is pixel_pdf (camera_model.h).
+  const double camera_term =
+      scene.camera().pixel_pdf(camera_cos(scene, unit(p.z[0].position, p.z[1].position)));
+  f.camera_beta.assign(k + 1, Rgb{});
+  f.camera_beta[0] = {1.0, 1.0, 1.0};
+  f.camera_beta[1] = Rgb{1.0, 1.0, 1.0} * (camera_term * geometry(p, 0, 1) / f.camera_pdf[1]);
+  for (std::size_t i = 2; i <= k; ++i) {
+    f.camera_beta[i] = f.camera_beta[i - 1] * scattering(scene, p, i - 1, i - 2, i) *
+                       (geometry(p, i - 1, i) / f.camera_pdf[i]);
+  }
+  f.light_beta.assign(k + 1, Rgb{});
+  f.light_beta[k] = Rgb{1.0, 1.0, 1.0} / f.light_pdf[k];
+  f.light_beta[k - 1] =
+      f.light_beta[k] * emission(scene, p) * (geometry(p, k, k - 1) / f.light_pdf[k - 1]);
+  for (std::size_t i = k - 1; i-- > 0;) {
+    f.light_beta[i] = f.light_beta[i + 1] * scattering(scene, p, i + 1, i + 2, i) *
+                      (geometry(p, i + 1, i) / f.light_pdf[i]);
+  }
+  f.contribution = emission(scene, p) * camera_term;
+  for (std::size_t i = 1; i < k; ++i) {
+    f.contribution = f.contribution * scattering(scene, p, i, i - 1, i + 1);
+  }
+  for (std::size_t i = 0; i < k; ++i) f.contribution = f.contribution * geometry(p, i, i + 1);
+  return f;
+}
+
+// Density of strategy s: the light subpath makes z_k .. z_t, the camera subpath z_0 .. z_{t-1}.
+double strategy_pdf(const PathFacts& f, std::size_t s) {
+  const std::size_t k = f.camera_pdf.size() - 1, t = k + 1 - s;
+  double pdf = 1.0;
+  for (std::size_t i = t; i <= k; ++i) pdf *= f.light_pdf[i];
+  for (std::size_t i = 1; i < t; ++i) pdf *= f.camera_pdf[i];
+  return pdf;
+}
+
+// The subpaths of strategy s, with every density, direction and throughput as its own walks
+// would have recorded them. The reverse densities of each subpath's last two vertices depend on
+// where that walk went next, which the connection replaces: mis_weight must compute them
+// itself, so they are NaN here (and any use of them shows in the result).
+constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
+
+struct Split {
+  std::vector<PathVertex> light, camera;
+};
+
+Split split(const Scene& scene, const FullPath& p, const PathFacts& f, std::size_t s) {
+  const std::size_t k = p.k(), t = k + 1 - s;
+  Split out;
+  for (std::size_t i = 0; i < t; ++i) {
+    PathVertex v;
+    v.kind = i == 0 ? VertexKind::kCamera : VertexKind::kSurface;
+    v.position = p.z[i].position;
+    if (i > 0) {
+      v.normal = p.z[i].normal;
+      v.triangle = p.z[i].triangle;
+      v.to_previous = unit(v.position, p.z[i - 1].position);
+      v.delta = is_delta(scene.material(v.triangle));
+    }
+    v.beta = f.camera_beta[i];
+    v.pdf_fwd = i == 0 ? 0.0 : f.camera_pdf[i];
+    v.pdf_rev = i + 2 >= t ? kUnknown : f.light_pdf[i];
+    out.camera.push_back(v);
+  }
+  for (std::size_t j = 0; j < s; ++j) {
+    const std::size_t i = k - j;
+    PathVertex v;
+    v.kind = j == 0 ? VertexKind::kEmitter : VertexKind::kSurface;
+    v.point_light = j == 0 && p.point_light;
+    v.position = p.z[i].position;
+    v.triangle = p.z[i].triangle;
+    if (!v.point_light) v.normal = p.z[i].normal;
+    if (j > 0) {
+      v.to_previous = unit(v.position, p.z[i + 1].position);
+      v.delta = is_delta(scene.material(v.triangle));
+    }
+    v.beta = f.light_beta[i];
+    v.pdf_fwd = f.light_pdf[i];
+    v.pdf_rev = j + 2 >= s ? kUnknown : f.camera_pdf[i];
+    out.light.push_back(v);
+  }
+  return out;
+}
+
+// Whether strategy s can make this path at all (no camera subpath hits a point light).
+bool possible(const FullPath& p, std::size_t s) {
+  return !(s == 0 && p.point_light);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Where the paths come from
+
+// Prefixes of camera subpaths that end on the front of an emitting triangle.
+std::vector<FullPath> camera_paths(const Scene& scene, std::size_t wanted, std::uint64_t key) {
+  const SceneDescription& d = scene.description();
+  std::vector<FullPath> out;
+  std::vector<PathVertex> path;
+  TraceCounters counters;
+  for (std::uint32_t n = 0; out.size() < wanted && n < 1000000; ++n) {
+    RandomStream rng({.key = key, .path = n});
+    const double fx = rng.uniform() * d.width, fy = rng.uniform() * d.height;
+    trace_camera_path(scene, fx, fy, rng, d.max_length, path, counters);
+    for (std::size_t k = 1; k < path.size() && out.size() < wanted; ++k) {
+      const PathVertex& v = path[k];
+      if (scene.triangle(v.triangle).emission.is_black()) continue;
+      if (dot(v.normal, v.to_previous) <= 0.0) continue;
+      out.push_back({std::vector<PathVertex>(path.begin(), path.begin() + k + 1), false, true});
+    }
+  }
+  return out;
+}
+
+// Light subpath prefixes x_0 .. x_j that the camera sees, reversed (z_0 the camera).
+std::vector<FullPath> light_paths(const Scene& scene, std::size_t wanted, std::uint64_t key) {
+  const SceneDescription& d = scene.description();
+  std::vector<FullPath> out;
+  std::vector<PathVertex> path;
+  TraceCounters counters;
+  PathVertex camera;
+  camera.kind = VertexKind::kCamera;
+  camera.position = scene.camera().position();
+  for (std::uint32_t n = 0; out.size() < wanted && n < 1000000; ++n) {
+    RandomStream rng({.key = key, .path = n});
+    trace_light_path(scene, rng, d.max_length, path, counters);
+    for (std::size_t j = 0; j < path.size() && out.size() < wanted; ++j) {
+      if (!scene.camera().project(unit(camera.position, path[j].position))) continue;
+      if (scene.occluded(camera.position, path[j].position)) continue;
+      FullPath p{{camera}, path[0].point_light, false};
+      for (std::size_t i = j + 1; i-- > 0;) p.z.push_back(path[i]);
+      out.push_back(std::move(p));
+    }
+  }
+  return out;
+}
+
+// Paths the MIS weights are defined on: a non-zero contribution and densities.
+bool usable(const PathFacts& f) {
+  if (f.contribution.is_black()) return false;
+  for (std::size_t i = 1; i < f.camera_pdf.size(); ++i) {
+    if (!(f.camera_pdf[i] > 0.0) || !(f.light_pdf[i] > 0.0)) return false;
+  }
+  return true;
+}
+
+Scene scene_named(const std::string& name) {
+  return Scene(*built_in_scene(name));
+}
+
+// Cornell with a point light under the area light too.
+SceneDescription cornell_with_point_light() {
+  SceneDescription d = *built_in_scene("cornell");
+  d.point_lights.push_back({{0.5, 0.8, 0.6}, {0.6, 0.5, 0.4}});
+  return d;
+}
+
+struct NamedCounts {
+  std::string name;
+  RenderConfig config;
+};
+
+// Every method, with pool sizes and draw counts of a typical run (they set StrategyCounts).
+std::vector<NamedCounts> every_method() {
+  return {{"pt", {.method = Method::kPathTracing}},
+          {"lt", {.method = Method::kLightTracing}},
+          {"bdpt", {.method = Method::kBdpt}},
+          {"vc", {.method = Method::kVertexConnection, .light_paths = 8}},
+          {"lvc", {.method = Method::kLightVertexCache, .light_paths = 1024, .draws = 8}},
+          {"pcbpt", {.method = Method::kProbabilistic, .light_paths = 1024, .draws = 8}}};
+}
+
+// ---------------------------------------------------------------------------------------------
+// MIS weights
+
+// For each path and method: mis_weight of every included strategy (count > 0) is the balance
+// heuristic over the included strategies, and they sum to 1.
+void check_weights(const Scene& scene, const std::vector<FullPath>& paths) {
+  std::size_t checked = 0;
+  for (std::size_t n = 0; n < paths.size(); ++n) {
+    const FullPath& p = paths[n];
+    const PathFacts f = facts(scene, p);
+    if (!usable(f)) continue;
+    const std::size_t k = p.k();
+    for (const NamedCounts& method : every_method()) {
+      SCOPED_TRACE("path " + std::to_string(n) + " k " + std::to_string(k) + " " + method.name);
+      const StrategyCounts counts = strategy_counts(method.config, scene);
+      double total = 0.0;
+      for (std::size_t s = 0; s <= k; ++s) {
+        const double c =
+            counts.count(static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(k + 1 - s));
+        if (c > 0.0 && possible(p, s)) total += c * strategy_pdf(f, s);
+      }
+      if (total == 0.0) continue;  // no strategy of this method makes the path
+      double sum = 0.0;
+      for (std::size_t s = 0; s <= k; ++s) {
+        const double c =
+            counts.count(static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(k + 1 - s));
+        if (c <= 0.0 || !possible(p, s)) continue;  // weight 0: connect() skips it
+        const Split parts = split(scene, p, f, s);
+        const double w = mis_weight(scene, parts.light, parts.camera, counts);
+        EXPECT_NEAR(w, c * strategy_pdf(f, s) / total, 1e-9) << "s " << s;
+        sum += w;
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-9);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, paths.size());  // several methods per path
+}
+
+TEST(SceneMisWeights, SumToOneInTheFurnace) {
+  const Scene scene = scene_named("furnace");
+  check_weights(scene, camera_paths(scene, 200, 100));
+}
+
+TEST(SceneMisWeights, SumToOneInCornell) {
+  const Scene scene = scene_named("cornell");
+  check_weights(scene, camera_paths(scene, 100, 200));
+}
+
+TEST(SceneMisWeights, SumToOneInCornellGlossy) {
+  const Scene scene = scene_named("cornell-glossy");
+  check_weights(scene, camera_paths(scene, 100, 300));
+}
+
+TEST(SceneMisWeights, SumToOneWithAPointLight) {
+  const Scene scene(cornell_with_point_light());
+  const std::vector<FullPath> paths = light_paths(scene, 200, 400);
+  std::size_t point = 0;
+  for (const FullPath& p : paths) point += p.point_light;
+  EXPECT_GT(point, 20u);
+  check_weights(scene, paths);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Connections
+
+// connect(), unweighted, is f(z) / p_s for every strategy of the path; weighted, it is that
+// times mis_weight.
+void check_connections(const Scene& scene, const std::vector<FullPath>& paths) {
+  const StrategyCounts counts = strategy_counts({.method = Method::kBdpt}, scene);
+  std::size_t checked = 0;
+  for (std::size_t n = 0; n < paths.size(); ++n) {
+    const FullPath& p = paths[n];
+    const PathFacts f = facts(scene, p);
+    if (!usable(f)) continue;
+    for (std::size_t s = 0; s <= p.k(); ++s) {
+      if (!possible(p, s)) continue;
+      SCOPED_TRACE("path " + std::to_string(n) + " k " + std::to_string(p.k()) + " s " +
+                   std::to_string(s));
+      const Split parts = split(scene, p, f, s);
+      TraceCounters counters;
+      std::optional<PixelPosition> pixel;
+      const Rgb value = connect(scene, parts.light, parts.camera, counts,
+                                {.visibility = false, .weighted = false}, counters, &pixel);
+      const Rgb expected = f.contribution / strategy_pdf(f, s);
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(value[c], expected[c], 1e-9 * expected.max_channel()) << "channel " << c;
+      }
+      if (parts.camera.size() == 1) {
+        const auto where = scene.camera().project(unit(p.z[0].position, p.z[1].position));
+        ASSERT_TRUE(pixel && where);
+        EXPECT_EQ(pixel->x, where->x);
+        EXPECT_EQ(pixel->y, where->y);
+      }
+      const Rgb weighted =
+          connect(scene, parts.light, parts.camera, counts, {.visibility = false}, counters);
+      const double w = mis_weight(scene, parts.light, parts.camera, counts);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(weighted[c], w * value[c], 1e-12 * value[c]);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, paths.size());
+}
+
+TEST(SceneMisConnect, UnweightedValueIsContributionOverPdf) {
+  const Scene glossy = scene_named("cornell-glossy");
+  check_connections(glossy, camera_paths(glossy, 60, 500));
+  const Scene point(cornell_with_point_light());
+  check_connections(point, light_paths(point, 60, 600));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The walks' own bookkeeping
+
+bool near_relative(double a, double b, double tolerance) {
+  return std::abs(a - b) <= tolerance * std::max(std::abs(a), std::abs(b));
+}
+
+// What trace_camera_path and trace_light_path recorded on their vertices matches the densities
+// and throughputs computed from the positions: pdf_fwd everywhere, pdf_rev where the walk
+// knew the vertex two steps on, beta everywhere.
+void check_walk(const Scene& scene, const std::vector<FullPath>& paths) {
+  int mismatches = 0, checked = 0;
+  for (const FullPath& p : paths) {
+    const PathFacts f = facts(scene, p);
+    if (!usable(f)) continue;
+    const std::size_t k = p.k();
+    for (std::size_t i = 1; i <= k; ++i) {
+      const PathVertex& v = p.z[i];
+      const Rgb beta = p.from_camera ? f.camera_beta[i] : f.light_beta[i];
+      const double fwd = p.from_camera ? f.camera_pdf[i] : f.light_pdf[i];
+      bool ok = near_relative(v.pdf_fwd, fwd, 1e-9);
+      for (int c = 0; c < 3; ++c) ok = ok && near_relative(v.beta[c], beta[c], 1e-9);
+      // The reverse density needs the vertex after the next one in the walk's direction.
+      if (p.from_camera && i + 2 <= k) ok = ok && near_relative(v.pdf_rev, f.light_pdf[i], 1e-9);
+      if (!p.from_camera && i >= 3) ok = ok && near_relative(v.pdf_rev, f.camera_pdf[i], 1e-9);
+      if (!ok) {
+        ADD_FAILURE() << "vertex " << i << " of " << k << ": pdf_fwd " << v.pdf_fwd << " vs " << fwd
+                      << ", pdf_rev " << v.pdf_rev << ", beta " << v.beta.r << " vs " << beta.r;
+        if (++mismatches > 5) return;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(SceneMisWalk, RecordedDensitiesMatchThePath) {
+  const Scene glossy = scene_named("cornell-glossy");
+  check_walk(glossy, camera_paths(glossy, 100, 700));
+  const Scene point(cornell_with_point_light());
+  check_walk(point, light_paths(point, 100, 800));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The furnace renders to its exact radiance
+
+constexpr std::uint32_t kReplicates = 8;
+constexpr std::uint32_t kIterations = 4;
+
+SceneDescription small_furnace() {
+  SceneDescription d = *built_in_scene("furnace");
+  d.width = d.height = 8;
+  d.max_length = 3;
+  return d;
+}
+
+std::vector<NamedCounts> render_configs() {
+  return {{"pt", {.method = Method::kPathTracing}},
+          {"lt", {.method = Method::kLightTracing}},
+          {"bdpt", {.method = Method::kBdpt}},
+          {"vc", {.method = Method::kVertexConnection, .light_paths = 8}},
+          {"lvc", {.method = Method::kLightVertexCache, .light_paths = 256, .draws = 4}},
+          {"pcbpt", {.method = Method::kProbabilistic, .light_paths = 256, .draws = 4, .tile = 4}}};
+}
+
+TEST(SceneRenderFurnace, EveryMethodIsUnbiased) {
+  const Scene scene(small_furnace());
+  const Rgb reference = furnace_radiance(3);
+  for (const NamedCounts& method : render_configs()) {
+    SCOPED_TRACE(method.name);
+    // Per replicate and channel, the image's mean over all pixels.
+    std::vector<Rgb> means;
+    for (std::uint32_t r = 0; r < kReplicates; ++r) {
+      const Image image = render_replicate(scene, method.config, 77, r, kIterations).image;
+      Rgb sum;
+      for (std::size_t i = 0; i < image.pixel_count(); ++i) {
+        sum += {image.values[3 * i], image.values[3 * i + 1], image.values[3 * i + 2]};
+      }
+      means.push_back(sum / static_cast<double>(image.pixel_count()));
+    }
+    for (int c = 0; c < 3; ++c) {
+      double mean = 0.0, squares = 0.0;
+      for (const Rgb& m : means) mean += m[c];
+      mean /= kReplicates;
+      for (const Rgb& m : means) squares += (m[c] - mean) * (m[c] - mean);
+      const double stderr_of_mean = std::sqrt(squares / (kReplicates - 1) / kReplicates);
+      // Some estimators are nearly exact here; a difference at rounding level is no bias.
+      const bool exact = std::abs(mean - reference[c]) <= 1e-9 * reference[c];
+      const double p =
+          exact ? 1.0
+                : student_t_p_value((mean - reference[c]) / stderr_of_mean, kReplicates - 1.0);
+      EXPECT_GT(p, 1e-4) << "channel " << c << ": mean " << mean << " ± " << stderr_of_mean
+                         << ", exact " << reference[c];
+    }
+  }
+}
+
+TEST(SceneRenderFurnace, ThreadCountDoesNotChangeTheImage) {
+  const Scene scene(small_furnace());
+  for (const NamedCounts& method : render_configs()) {
+    SCOPED_TRACE(method.name);
+    std::vector<double> images[2];
+    for (int threads : {1, 2}) {
+      const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                      static_cast<std::size_t>(threads));
+      images[threads - 1] = render_replicate(scene, method.config, 99, 3, 2).image.values;
+    }
+    ASSERT_EQ(images[0].size(), images[1].size());
+    EXPECT_EQ(std::memcmp(images[0].data(), images[1].data(), images[0].size() * sizeof(double)),
+              0);
+  }
+}
+
+}  // namespace
+}  // namespace pcbench::scene
