@@ -38,7 +38,7 @@ std::vector<EstimatorEntry> make_table() {
                    Selection::kImportance, DrawScheme::kIndependent),
   };
   for (EstimatorEntry& entry : negative_control_entries()) table.push_back(std::move(entry));
-  add_scene_estimators(table);
+  add_scene_forms(table);
   return table;
 }
 
@@ -49,11 +49,18 @@ const std::vector<EstimatorEntry>& estimator_registry() {
   return table;
 }
 
+const std::vector<EstimatorEntry>& scene_estimator_registry() {
+  static const std::vector<EstimatorEntry> table = scene_only_estimators();
+  return table;
+}
+
 const EstimatorEntry& find_estimator(const std::string& name) {
   std::vector<std::string> names;
-  for (const EstimatorEntry& entry : estimator_registry()) {
-    if (entry.name == name) return entry;
-    names.push_back(entry.name);
+  for (const auto* table : {&estimator_registry(), &scene_estimator_registry()}) {
+    for (const EstimatorEntry& entry : *table) {
+      if (entry.name == name) return entry;
+      names.push_back(entry.name);
+    }
   }
   throw InputError(
       fmt::format("unknown estimator '{}'; valid estimators: {}", name, join_names(names)));

@@ -42,7 +42,10 @@ struct EstimatorEntry {
   bool samples_analytic() const { return static_cast<bool>(make); }
 };
 
+// Estimators of analytic integrands (most of which render scenes too).
 const std::vector<EstimatorEntry>& estimator_registry();
+// Estimators of scenes only (path tracing, light tracing, the scene negative controls).
+const std::vector<EstimatorEntry>& scene_estimator_registry();
 
 // Throws InputError naming the valid estimators.
 const EstimatorEntry& find_estimator(const std::string& name);

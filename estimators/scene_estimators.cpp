@@ -68,7 +68,7 @@ EstimatorEntry scene_only(std::string name, std::string description, std::vector
 
 }  // namespace
 
-void add_scene_estimators(std::vector<EstimatorEntry>& table) {
+void add_scene_forms(std::vector<EstimatorEntry>& table) {
   for (EstimatorEntry& e : table) {
     if (e.name == "plain") {
       give_scene_form(e, {}, {.method = Method::kBdpt});
@@ -83,6 +83,10 @@ void add_scene_estimators(std::vector<EstimatorEntry>& table) {
                       {.method = Method::kProbabilistic, .light_paths = 1024});
     }
   }
+}
+
+std::vector<EstimatorEntry> scene_only_estimators() {
+  std::vector<EstimatorEntry> table;
   table.push_back(scene_only("pt", "scenes: path tracing with next-event estimation (s <= 1)", {},
                              {.method = Method::kPathTracing}));
   table.push_back(scene_only("lt", "scenes: light tracing, W·H light paths splatted (t = 1)", {},
@@ -108,6 +112,7 @@ void add_scene_estimators(std::vector<EstimatorEntry>& table) {
                  true);
   per_vertex.declared = DeclaredWorkload{.integrand = "cornell", .samples = 16, .replicates = 16};
   table.push_back(std::move(per_vertex));
+  return table;
 }
 
 }  // namespace pcbench

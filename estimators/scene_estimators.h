@@ -10,7 +10,10 @@
 
 namespace pcbench {
 
-// Gives the family's entries in `table` their scene form and appends the scene-only entries.
-void add_scene_estimators(std::vector<EstimatorEntry>& table);
+// Gives the family's entries in `table` their scene form.
+void add_scene_forms(std::vector<EstimatorEntry>& table);
+
+// The estimators that work on scenes only: pt, lt and the scene negative controls.
+std::vector<EstimatorEntry> scene_only_estimators();
 
 }  // namespace pcbench

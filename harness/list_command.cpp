@@ -41,11 +41,18 @@ void print_params(std::ostream& out, const std::vector<ParamSpec>& specs) {
 void print_registry(std::ostream& out, bool as_json) {
   if (as_json) {
     Json estimators = Json::array();
-    for (const EstimatorEntry& e : estimator_registry()) {
+    std::vector<const EstimatorEntry*> all;
+    for (const EstimatorEntry& e : estimator_registry()) all.push_back(&e);
+    for (const EstimatorEntry& e : scene_estimator_registry()) all.push_back(&e);
+    for (const EstimatorEntry* entry_pointer : all) {
+      const EstimatorEntry& e = *entry_pointer;
       Json entry{{"name", e.name},
                  {"biased", e.biased},
                  {"params", params_json(e.params)},
-                 {"description", e.description}};
+                 {"description", e.description},
+                 {"analytic", e.samples_analytic()},
+                 {"scenes", e.renders_scenes()},
+                 {"scene_params", params_json(e.scene_params)}};
       if (e.declared) {
         entry["declared"] = Json{{"integrand", e.declared->integrand},
                                  {"params", e.declared->integrand_params},
@@ -62,8 +69,14 @@ void print_registry(std::ostream& out, bool as_json) {
                                 {"tags", i.tags},
                                 {"description", i.description}});
     }
-    out << Json{{"estimators", estimators}, {"integrands", integrands}, {"scenes", Json::array()}}
-               .dump(2)
+    Json scenes = Json::array();
+    for (const IntegrandEntry& i : scene_registry()) {
+      scenes.push_back(Json{{"name", i.name},
+                            {"params", params_json(i.params)},
+                            {"exact", i.exact},
+                            {"description", i.description}});
+    }
+    out << Json{{"estimators", estimators}, {"integrands", integrands}, {"scenes", scenes}}.dump(2)
         << "\n";
     return;
   }
@@ -76,6 +89,19 @@ void print_registry(std::ostream& out, bool as_json) {
                          e.name);
     }
     print_params(out, e.params);
+    if (e.renders_scenes() && !e.scene_params.empty()) {
+      out << "      on scenes:\n";
+      print_params(out, e.scene_params);
+    }
+  }
+  out << "scene-only estimators:\n";
+  for (const EstimatorEntry& e : scene_estimator_registry()) {
+    out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
+    if (e.declared) {
+      out << fmt::format("      biased on {} at {} samples per pixel x {} replicates\n",
+                         e.declared->integrand, e.declared->samples, e.declared->replicates);
+    }
+    print_params(out, e.scene_params);
   }
   out << "integrands:\n";
   for (const IntegrandEntry& i : integrand_registry()) {
@@ -84,7 +110,11 @@ void print_registry(std::ostream& out, bool as_json) {
     out << fmt::format("  {:<20} {}{}\n", i.name, tags, i.description);
     print_params(out, i.params);
   }
-  out << "scenes:\n  (none yet)\n";
+  out << "scenes (or a scene file: --integrand path/to/scene.json):\n";
+  for (const IntegrandEntry& i : scene_registry()) {
+    out << fmt::format("  {:<20} {}{}\n", i.name, i.exact ? "[exact] " : "", i.description);
+    print_params(out, i.params);
+  }
 }
 
 }  // namespace pcbench

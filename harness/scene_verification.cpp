@@ -95,6 +95,17 @@ std::vector<Image> with_tile_bias(std::vector<Image> images, const TileTest& til
   return images;
 }
 
+// Closest-hit and shadow rays per CPU second over the run (all threads' CPU time).
+double rays_per_cpu_second(const RunRecord& r) {
+  std::uint64_t rays = 0;
+  for (const auto& [name, count] : r.result.scene_counters) {
+    if (name == "camera_rays" || name == "light_rays" || name == "shadow_rays") rays += count;
+  }
+  double cpu = 0.0;
+  for (const ReplicateResult& rep : r.result.replicates) cpu += rep.cpu_seconds;
+  return cpu > 0.0 ? static_cast<double>(rays) / cpu : 0.0;
+}
+
 }  // namespace
 
 std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
@@ -171,12 +182,15 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
     if (!scene) continue;
     const PixelStatistics& s = stats.at(&r);
     std::optional<Image> reference;
+    std::vector<Image> reference_images;  // what the pixel test compares with
     std::string reference_kind = "none";
     if (scene->exact_radiance()) {
       reference = constant_image(scene->scene(), *scene->exact_radiance());
+      reference_images = {*reference};
       reference_kind = "exact";
     } else if (const RunRecord* b = best[r.plan->integrand].second; b && b != &r) {
       reference = stats.at(b).mean;
+      reference_images = b->result.images;
       reference_kind = "run " + b->plan->id;
     }
     const fs::path dir = folder / "images";
@@ -188,8 +202,16 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
     files["mean"] = "images/" + stem + "_mean.exr";
     files["stderr"] = "images/" + stem + "_stderr.exr";
     nlohmann::ordered_json image = {{"width", s.mean.width}, {"height", s.mean.height}};
+    image["rays_per_cpu_second"] = rays_per_cpu_second(r);
     if (reference) {
-      const Image z = z_map(s, *reference);
+      const Image z = reference_images.size() == 1 ? z_map(s, *reference)
+                                                   : z_map(s, pixel_statistics(reference_images));
+      const PixelTestSummary pixels = summarize_z(z, r.result.images, reference_images);
+      image["pixel_test"] = {{"test", "pixel-z"},
+                             {"statistic", pixels.max_abs_z},
+                             {"pixels_beyond_4_sigma", pixels.pixels_beyond_4_sigma},
+                             {"expected_beyond_4_sigma_at_most", pixels.expected_beyond_4_sigma},
+                             {"low_count_pixels", pixels.low_count_pixels}};
       write_exr_rgb(dir / (stem + "_zmap.exr"), z);
       files["zmap"] = "images/" + stem + "_zmap.exr";
       double mean_ref = 0.0;

@@ -87,17 +87,23 @@ const std::vector<IntegrandEntry>& integrand_registry() {
             "expr", "muparser expression f(x0.., y0..) on the unit cube; reference from 'exact'",
             false),
     };
-    for (IntegrandEntry& entry : scene_integrand_entries()) analytic.push_back(std::move(entry));
     return analytic;
   }();
   return table;
 }
 
+const std::vector<IntegrandEntry>& scene_registry() {
+  static const std::vector<IntegrandEntry> table = scene_integrand_entries();
+  return table;
+}
+
 const IntegrandEntry& find_integrand(const std::string& name) {
   std::vector<std::string> names;
-  for (const IntegrandEntry& entry : integrand_registry()) {
-    if (entry.name == name) return entry;
-    names.push_back(entry.name);
+  for (const auto* table : {&integrand_registry(), &scene_registry()}) {
+    for (const IntegrandEntry& entry : *table) {
+      if (entry.name == name) return entry;
+      names.push_back(entry.name);
+    }
   }
   // A scene file: read once, then kept for the life of the process (entries are referenced).
   if (name.size() > 5 && name.ends_with(".json")) {

@@ -29,7 +29,10 @@ struct IntegrandEntry {
   bool non_negative() const { return has_tag("non-negative"); }
 };
 
+// The analytic integrands.
 const std::vector<IntegrandEntry>& integrand_registry();
+// The built-in scenes (tag "scene"); scene files are found by find_integrand.
+const std::vector<IntegrandEntry>& scene_registry();
 
 // Throws InputError naming the valid integrands.
 const IntegrandEntry& find_integrand(const std::string& name);

@@ -14,8 +14,6 @@ namespace pcbench::scene {
 
 enum class MaterialKind { kDiffuse, kPhong, kMirror };
 
-const char* to_string(MaterialKind kind);
-
 // Lambertian: f = albedo / π. Normalised Phong (Lafortune and Willems 1994): f = albedo ·
 // (exponent + 2) / (2π) · cos^exponent(angle between wi and the mirror direction of wo), the
 // energy-conserving lobe for albedo <= 1. Mirror: a perfect specular reflection scaled by albedo.
