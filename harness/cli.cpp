@@ -51,7 +51,9 @@ bool takes_comma_lists(const std::string& key, const GridRequest& grid) {
     return false;
   };
   for (const std::string& name : grid.estimators) {
-    if (typed_in(find_estimator(name).params)) return true;
+    if (typed_in(find_estimator(name).params) || typed_in(find_estimator(name).scene_params)) {
+      return true;
+    }
   }
   for (const std::string& name : grid.integrands) {
     if (typed_in(find_integrand(name).params)) return true;

@@ -147,26 +147,31 @@ ComparisonOutcome compare_report_files(const std::filesystem::path& a,
 }
 
 nlohmann::ordered_json comparison_json(const Comparison& c) {
-  return Json{{"a", c.a},
-              {"b", c.b},
-              {"test", c.test},
-              {"statistic", finite_or_null(c.statistic)},
-              {"p_value", finite_or_null(c.p_value)},
-              {"p_adjusted", finite_or_null(c.p_adjusted)},
-              {"alpha", c.alpha},
-              {"result", c.result},
-              {"expect", c.expect},
-              {"estimator", c.estimator},
-              {"integrand", c.integrand},
-              {"dof", finite_or_null(c.dof)},
-              {"reason", c.reason},
-              {"mean_a", finite_or_null(c.mean_a)},
-              {"mean_b", finite_or_null(c.mean_b)},
-              {"stderr_a", finite_or_null(c.stderr_a)},
-              {"stderr_b", finite_or_null(c.stderr_b)},
-              {"replicates_a", c.replicates_a},
-              {"replicates_b", c.replicates_b},
-              {"min_detectable_difference", finite_or_null(c.min_detectable_difference)}};
+  Json out{{"a", c.a},
+           {"b", c.b},
+           {"test", c.test},
+           {"statistic", finite_or_null(c.statistic)},
+           {"p_value", finite_or_null(c.p_value)},
+           {"p_adjusted", finite_or_null(c.p_adjusted)},
+           {"alpha", c.alpha},
+           {"result", c.result},
+           {"expect", c.expect},
+           {"estimator", c.estimator},
+           {"integrand", c.integrand},
+           {"dof", finite_or_null(c.dof)},
+           {"reason", c.reason},
+           {"mean_a", finite_or_null(c.mean_a)},
+           {"mean_b", finite_or_null(c.mean_b)},
+           {"stderr_a", finite_or_null(c.stderr_a)},
+           {"stderr_b", finite_or_null(c.stderr_b)},
+           {"replicates_a", c.replicates_a},
+           {"replicates_b", c.replicates_b},
+           {"min_detectable_difference", finite_or_null(c.min_detectable_difference)}};
+  if (c.tile_relative_mdb) {
+    out["tile_relative_mdb"] = finite_or_null(*c.tile_relative_mdb);
+    out["bright_tiles"] = c.bright_tiles;
+  }
+  return out;
 }
 
 nlohmann::ordered_json comparisons_json(const std::vector<Comparison>& comparisons) {

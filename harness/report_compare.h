@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,6 +41,10 @@ struct Comparison {
   // The |mean_a - mean_b| this test detects with 80% power at the Bonferroni share alpha / m: a
   // "consistent" result rules out differences about this large, not smaller ones.
   double min_detectable_difference = 0.0;
+  // Scene tile tests: the largest detectable tile bias relative to the tile mean over the tiles
+  // brighter than 10% of the image mean (the power requirement is <= 5%), and their count.
+  std::optional<double> tile_relative_mdb = {};
+  std::uint32_t bright_tiles = 0;
 };
 
 // A run id present in both reports but not compared, and why (a run not ok, < 2 replicates).

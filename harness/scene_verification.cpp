@@ -77,6 +77,8 @@ Comparison tile_comparison(const RunRecord& a, std::string b_id, std::string b_n
   c.p_value = t.min_p_adjusted;
   c.expect = std::move(expect);
   c.replicates_a = a.result.images.size();
+  c.tile_relative_mdb = t.worst_bright_relative_mdb;
+  c.bright_tiles = t.bright_tiles;
   return c;
 }
 

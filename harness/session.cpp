@@ -233,6 +233,8 @@ std::vector<std::pair<Comparison, Verdict>> pairwise_comparisons(
         continue;
       }
       if (!all_pairs && a.result.reference.kind != ReferenceKind::kNone) continue;
+      // Scenes are compared tile by tile instead (scene_tile_comparisons).
+      if (a.plan->render) continue;
       const int biased = a.plan->estimator->biased + b.plan->estimator->biased;
       if (biased == 2) continue;
       std::vector<double> xa, xb;
