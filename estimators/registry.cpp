@@ -7,6 +7,7 @@
 #include "estimators/resampling.h"
 #include "estimators/scene_estimators.h"
 #include "harness/errors.h"
+#include "harness/nearest_name.h"
 
 namespace pcbench {
 namespace {
@@ -62,8 +63,8 @@ const EstimatorEntry& find_estimator(const std::string& name) {
       names.push_back(entry.name);
     }
   }
-  throw InputError(
-      fmt::format("unknown estimator '{}'; valid estimators: {}", name, join_names(names)));
+  throw InputError(fmt::format("unknown estimator '{}'{}; valid estimators: {}", name,
+                               did_you_mean(name, names), join_names(names)));
 }
 
 }  // namespace pcbench

@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "harness/errors.h"
+#include "harness/nearest_name.h"
 #include "integrands/blocker.h"
 #include "integrands/door.h"
 #include "integrands/door_2d.h"
@@ -117,8 +118,8 @@ const IntegrandEntry& find_integrand(const std::string& name) {
     return files.back();
   }
   throw InputError(
-      fmt::format("unknown integrand '{}'; valid integrands: {} (or a scene file, *.json)", name,
-                  join_names(names)));
+      fmt::format("unknown integrand '{}'{}; valid integrands: {} (or a scene file, *.json)", name,
+                  did_you_mean(name, names), join_names(names)));
 }
 
 }  // namespace pcbench

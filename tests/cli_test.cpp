@@ -89,8 +89,26 @@ TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
   std::ofstream("contradiction.json")
       << R"({"runs": [{"estimator": "plain", "integrand": "genz-gaussian", "expect": "consistent"},
                       {"estimator": "plain", "integrand": "genz-gaussian", "expect": "biased"}]})";
+  std::ofstream("no_emitter.scene.json")
+      << R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]},
+             "materials": {"white": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
+             "shapes": [{"type": "quad", "material": "white",
+                         "corners": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]}]})";
   const std::vector<BadInput> cases = {
       {{"run", "duplicate.json"}, "key 'sharpness' appears twice"},
+      // Scenes.
+      {{"run", "-e", "ctl-cull-small", "-i", "cornell"}, "does not render scenes"},
+      {{"run", "-e", "pt", "-i", "genz-gaussian"}, "works on scenes only"},
+      {{"run", "-e", "plain", "-i", "cornell", "-p", "resolution=0"}, "resolution '0'"},
+      {{"run", "-e", "plain", "-i", "cornell", "-p", "resolution=64y64"}, "resolution"},
+      {{"run", "-e", "plain", "-i", "cornell", "-p", "max_length=0"}, "out of range"},
+      {{"run", "-e", "pcbpt", "-i", "cornell", "-p", "K=0"}, "out of range"},
+      {{"run", "-e", "pcbpt", "-i", "cornell", "-p", "uniform_mix=2"}, "out of range"},
+      {{"run", "-e", "pcbpt", "-i", "cornell", "-p", "importance=f"}, "read by no estimator"},
+      {{"run", "-e", "plain", "-i", "cornell", "--seconds", "1"}, "not available for scenes"},
+      {{"run", "-e", "plain", "-i", "missing.scene.json"}, "missing.scene.json"},
+      {{"run", "-e", "plain", "-i", "no_emitter.scene.json"}, "emitter"},
+      {{"run", "-e", "plain", "-i", "cornel"}, "valid integrands"},
       {{"run", "contradiction.json"}, "/runs/1: the same run as"},
       {{"run", "-e", "plain", "-i", "genz-gaussian", "--out", ""}, "--out is empty"},
       {{"run", "-e", "plain", "-i", "genz-gaussian", "--seed", "-1"}, "--seed"},
