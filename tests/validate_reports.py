@@ -215,7 +215,9 @@ def semantic_problems(report, exit_status=None):
     # and writes no runs of its own.
     for c in report["comparisons"] if report["runs"] else []:
         for key in ("a", "b"):
-            if c[key] not in ids:
+            # A scene's exact image, and the tile test's self-check on a run, are named so.
+            side = c[key][:-len("+injected")] if c[key].endswith("+injected") else c[key]
+            if side not in ids and side != "exact":
                 problems.append("comparison %s-%s: %s is not a run id" % (c["a"], c["b"], key))
     if exit_status is not None:
         expected = expected_exit_status(report)
@@ -332,6 +334,10 @@ def main():
                            os.path.join(tmp, "d-cli-grid", "report.json")], 0, False),
             ("l-calibrate", ["calibrate", "-e", "plain", "--seeds", "50", "-n", "200", "-r", "4"],
              0, False),
+            # Scenes: image sections, tracing counters, tile comparisons (against the exact
+            # furnace, between estimators, the injected self-check) and a flagged control.
+            ("m-scene", ["verify", "-e", "plain,pcbpt,ctl-scene-lvc-per-vertex", "-i",
+                         "furnace,cornell", "-p", "resolution=8", "-n", "4", "-r", "4"], 0, False),
             # Interrupted during the first of two long runs: both not_run, exit 130.
             ("f-interrupted", ["run", "-e", "plain", "-i", "genz-gaussian,genz-oscillatory",
                                "-n", "100000000", "-r", "8"], 130, True),
