@@ -47,15 +47,19 @@ RunResult execute_scene_run(const RunPlan& plan, const RunnerOptions& options) {
   const std::uint64_t key = run_key(options.seed, plan.id_hash);
   scene::TraceCounters counters;
   try {
+    const auto interrupted = [&] {
+      return options.interrupted != nullptr && options.interrupted->load();
+    };
     for (std::uint32_t r = 0; r < plan.replicates; ++r) {
-      if (options.interrupted != nullptr && options.interrupted->load()) {
+      scene::ReplicateImage rendered =
+          scene::render_replicate(integrand.scene(), *plan.render, key, r,
+                                  static_cast<std::uint32_t>(plan.samples), options.interrupted);
+      // A replicate cut short is no replicate: the run is reported as not run.
+      if (interrupted()) {
         result.status = RunStatus::kNotRun;
         result.error = "interrupted";
         return result;
       }
-      scene::ReplicateImage rendered =
-          scene::render_replicate(integrand.scene(), *plan.render, key, r,
-                                  static_cast<std::uint32_t>(plan.samples), options.interrupted);
       ReplicateResult rep = summarise(rendered.image, plan.samples);
       rep.seconds = rendered.seconds;
       rep.cpu_seconds = rendered.cpu_seconds;
