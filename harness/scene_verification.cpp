@@ -108,6 +108,15 @@ double rays_per_cpu_second(const RunRecord& r) {
   return cpu > 0.0 ? static_cast<double>(rays) / cpu : 0.0;
 }
 
+// The first run of `sorted` (best-converged first) other than `self`.
+const RunRecord* best_other(const std::vector<std::pair<double, const RunRecord*>>& sorted,
+                            const RunRecord* self) {
+  for (const auto& [se, run] : sorted) {
+    if (run != self) return run;
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
@@ -161,9 +170,9 @@ std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
 }
 
 void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder) {
-  // The best-converged honest image per scene (smallest mean standard error) is the reference
-  // where there is no exact one.
-  std::map<const IntegrandEntry*, std::pair<double, const RunRecord*>> best;
+  // The best-converged honest images per scene (smallest mean standard error first): a run's
+  // reference where there is no exact one is the best of the others.
+  std::map<const IntegrandEntry*, std::vector<std::pair<double, const RunRecord*>>> converged;
   std::map<const RunRecord*, PixelStatistics> stats;
   for (const RunRecord& r : records) {
     const SceneIntegrand* scene = scene_of(r);
@@ -172,13 +181,12 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
     double se = 0.0;
     for (double v : s.standard_error.values) se += v;
     se /= static_cast<double>(s.standard_error.values.size());
-    auto& slot = best[r.plan->integrand];
-    if (!r.plan->estimator->biased && samples_all_paths(r, scene->scene()) &&
-        (!slot.second || se < slot.first)) {
-      slot = {se, &r};
+    if (!r.plan->estimator->biased && samples_all_paths(r, scene->scene())) {
+      converged[r.plan->integrand].emplace_back(se, &r);
     }
     stats.emplace(&r, std::move(s));
   }
+  for (auto& [integrand, runs] : converged) std::sort(runs.begin(), runs.end());
   for (RunRecord& r : records) {
     const SceneIntegrand* scene = scene_of(r);
     if (!scene) continue;
@@ -190,7 +198,7 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
       reference = constant_image(scene->scene(), *scene->exact_radiance());
       reference_images = {*reference};
       reference_kind = "exact";
-    } else if (const RunRecord* b = best[r.plan->integrand].second; b && b != &r) {
+    } else if (const RunRecord* b = best_other(converged[r.plan->integrand], &r)) {
       reference = stats.at(b).mean;
       reference_images = b->result.images;
       reference_kind = "run " + b->plan->id;
