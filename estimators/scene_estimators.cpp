@@ -33,6 +33,15 @@ ParamSpec mix_spec() {
           .min = 0.0,
           .max = 1.0};
 }
+ParamSpec guide_spec() {
+  return {.name = "guide",
+          .type = ParamType::kChoice,
+          .default_value = "first",
+          .description =
+              "camera vertices drawn from the tile's P: the first (deeper ones "
+              "uniformly), or all",
+          .choices = {"first", "all"}};
+}
 ParamSpec tile_spec() {
   return {.name = "tile",
           .type = ParamType::kInt,
@@ -47,6 +56,7 @@ RenderConfig read(const ResolvedParams& p, RenderConfig c) {
   if (p.has("K")) c.draws = static_cast<std::uint32_t>(p.integer("K"));
   if (p.has("uniform_mix")) c.uniform_mix = p.real("uniform_mix");
   if (p.has("tile")) c.tile = static_cast<std::uint32_t>(p.integer("tile"));
+  if (p.has("guide")) c.guide_all = p.text("guide") == "all";
   return c;
 }
 
@@ -79,8 +89,9 @@ void add_scene_forms(std::vector<EstimatorEntry>& table) {
       give_scene_form(e, {light_paths_spec(1024), vertex_draws_spec()},
                       {.method = Method::kLightVertexCache, .light_paths = 1024});
     } else if (e.name == "pcbpt") {
-      give_scene_form(e, {light_paths_spec(1024), vertex_draws_spec(), mix_spec(), tile_spec()},
-                      {.method = Method::kProbabilistic, .light_paths = 1024});
+      give_scene_form(
+          e, {light_paths_spec(1024), vertex_draws_spec(), mix_spec(), tile_spec(), guide_spec()},
+          {.method = Method::kProbabilistic, .light_paths = 1024});
     }
   }
 }

@@ -213,7 +213,10 @@ class Renderer {
     if (vertex_count == 0) return {};
     const double m = static_cast<double>(it.pool.size());
     const double k = config_.draws;
-    const bool uniform = config_.method == Method::kLightVertexCache;
+    // The tile's cache point stands for the first camera vertex only (unless guide_all): deeper
+    // vertices lie elsewhere and draw uniformly, as the light vertex cache does.
+    const bool uniform =
+        config_.method == Method::kLightVertexCache || (!config_.guide_all && camera.size() > 2);
     const std::uint32_t tile = tile_of(pixel);
     if (!uniform && !it.tile_has_draws[tile]) return {};
     Rgb value;

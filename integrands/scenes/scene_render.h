@@ -8,9 +8,10 @@
 //   vertex connection M light paths; every camera vertex connects to every light vertex
 //   light vertex cache M light paths; K light vertices drawn uniformly per camera vertex,
 //                     weighted by N_v / (K M) (vertices drawn, paths counted)
-//   probabilistic     M light paths; K light vertices drawn per camera vertex from P ∝ the
-//                     unoccluded connection value at the pixel tile's cache point, mixed with
-//                     uniform; weighted 1 / (K M P)
+//   probabilistic     M light paths; K light vertices drawn per first camera vertex from P ∝
+//                     the unoccluded connection value at the pixel tile's cache point, mixed
+//                     with uniform, weighted 1 / (K M P); deeper camera vertices draw uniformly
+//                     (guide_all: every vertex from the tile's P)
 // Every method except path tracing also splats its pool to the camera (t = 1), and every method
 // except light tracing adds what its camera subpaths find on emitters (s = 0). The resampled
 // methods draw with the same step as the analytic estimators (estimators/resampling_step.h).
@@ -54,6 +55,9 @@ struct RenderConfig {
   std::uint32_t draws = 8;        // K per camera vertex (lvc, pcbpt)
   double uniform_mix = 0.1;       // pcbpt
   std::uint32_t tile = 8;         // pcbpt: pixels per side of a cache tile
+  // pcbpt: guide every camera vertex by its tile's cache point, not just the first one (the
+  // cache point is a first hit; deeper vertices are elsewhere and are drawn uniformly).
+  bool guide_all = false;
   SceneFlaw flaw = SceneFlaw::kNone;
 };
 
