@@ -31,6 +31,21 @@ inline std::string line_and_column(std::string_view text, std::size_t byte) {
   return std::to_string(line) + ":" + std::to_string(column);
 }
 
+// A key as a JSON pointer token (RFC 6901): '~' and '/' escaped.
+inline std::string json_pointer_token(std::string_view key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') {
+      out += "~0";
+    } else if (c == '/') {
+      out += "~1";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 // Joins names as "a, b, c" for "valid choices" messages.
 template <typename Range>
 std::string join_names(const Range& names, const char* separator = ", ") {

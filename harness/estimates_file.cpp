@@ -302,20 +302,6 @@ class DelimitedParser {
 // ---------------------------------------------------------------------------------------------
 // JSON
 
-std::string pointer_token(std::string_view key) {
-  std::string out;
-  for (char c : key) {
-    if (c == '~') {
-      out += "~0";
-    } else if (c == '/') {
-      out += "~1";
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
 [[noreturn]] void fail_at(const std::string& name, const std::string& pointer,
                           const std::string& why) {
   throw InputError(fmt::format("{}: {}: {}", name, pointer.empty() ? "/" : pointer, why));
@@ -343,8 +329,8 @@ Json parse_json(const std::string& name, const std::string& text) {
   const auto pointer_to = [&](std::size_t depth) {
     std::string pointer;
     for (std::size_t i = 0; i < depth; ++i) {
-      pointer += fmt::format(
-          "/{}", frames[i].object ? pointer_token(frames[i].key) : std::to_string(frames[i].index));
+      pointer += fmt::format("/{}", frames[i].object ? json_pointer_token(frames[i].key)
+                                                     : std::to_string(frames[i].index));
     }
     return pointer;
   };
@@ -367,7 +353,8 @@ Json parse_json(const std::string& name, const std::string& text) {
       case Json::parse_event_t::key: {
         const std::string key = parsed.get<std::string>();
         if (!frames.back().keys.insert(key).second) {
-          fail_at(name, fmt::format("{}/{}", pointer_to(frames.size() - 1), pointer_token(key)),
+          fail_at(name,
+                  fmt::format("{}/{}", pointer_to(frames.size() - 1), json_pointer_token(key)),
                   fmt::format("key '{}' appears twice in one object", key));
         }
         frames.back().key = key;

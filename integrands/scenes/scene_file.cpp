@@ -40,20 +40,6 @@ const std::vector<std::string> kShapeTypes = {"quad", "triangle", "box", "mesh",
 const std::vector<std::string> kBoxNormals = {"outward", "inward"};
 const std::vector<std::string> kLightKeys = {"position", "intensity"};
 
-// A key as a JSON pointer token (RFC 6901): '~' and '/' escaped.
-std::string pointer_token(std::string_view key) {
-  std::string out;
-  for (char c : key) {
-    if (c == '~') {
-      out += "~0";
-    } else if (c == '/') {
-      out += "~1";
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
 
 // Where the parser is while it reads the document, so that a repeated key can be reported by
 // its JSON pointer (nlohmann-json's callbacks give no byte offset).
@@ -99,7 +85,7 @@ class PointerTracker {
     std::string out;
     for (const Frame& frame : frames_) {
       out += '/';
-      out += frame.array ? std::to_string(frame.index) : pointer_token(frame.key);
+      out += frame.array ? std::to_string(frame.index) : json_pointer_token(frame.key);
     }
     return out;
   }
@@ -194,7 +180,7 @@ class SceneParser {
                   const std::vector<std::string>& valid) const {
     for (const auto& item : object.items()) {
       if (std::find(valid.begin(), valid.end(), item.key()) == valid.end()) {
-        fail(pointer + "/" + pointer_token(item.key()),
+        fail(pointer + "/" + json_pointer_token(item.key()),
              fmt::format("unknown key '{}'; valid keys: {}{}", item.key(), join_names(valid),
                          did_you_mean(item.key(), valid)));
       }
@@ -327,7 +313,7 @@ class SceneParser {
   void materials(const Json& value, SceneDescription& scene) {
     require_object(value, "/materials");
     for (const auto& item : value.items()) {
-      const std::string pointer = "/materials/" + pointer_token(item.key());
+      const std::string pointer = "/materials/" + json_pointer_token(item.key());
       const Json& spec = item.value();
       require_object(spec, pointer);
       const std::string type = choice_at(required(spec, pointer, "type"), pointer + "/type",
