@@ -40,7 +40,6 @@ const std::vector<std::string> kShapeTypes = {"quad", "triangle", "box", "mesh",
 const std::vector<std::string> kBoxNormals = {"outward", "inward"};
 const std::vector<std::string> kLightKeys = {"position", "intensity"};
 
-
 // Where the parser is while it reads the document, so that a repeated key can be reported by
 // its JSON pointer (nlohmann-json's callbacks give no byte offset).
 class PointerTracker {
