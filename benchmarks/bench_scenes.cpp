@@ -26,6 +26,7 @@
 #include "harness/rng.h"
 #include "integrands/scenes/built_in_scenes.h"
 #include "integrands/scenes/connection.h"
+#include "integrands/scenes/embree_scene.h"
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/scene.h"
 #include "integrands/scenes/scene_render.h"
@@ -131,44 +132,8 @@ const RecordedScene& recorded(const std::string& name) {
   return it->second;
 }
 
-// The raw rate: an RTCScene of our own over the same float triangles, and the recorded rays in
-// float, ready for rtcIntersect1 / rtcOccluded1.
-struct RawEmbree {
-  explicit RawEmbree(const Scene& scene) {
-    device = rtcNewDevice(nullptr);
-    if (!device) throw std::runtime_error("Embree: rtcNewDevice failed");
-    handle = rtcNewScene(device);
-    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    const auto& triangles = scene.description().triangles;
-    const std::size_t n = triangles.size();
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3* corners[3] = {&triangles[i].p0, &triangles[i].p1, &triangles[i].p2};
-      for (int c = 0; c < 3; ++c) {
-        vertices[9 * i + 3 * c + 0] = static_cast<float>(corners[c]->x);
-        vertices[9 * i + 3 * c + 1] = static_cast<float>(corners[c]->y);
-        vertices[9 * i + 3 * c + 2] = static_cast<float>(corners[c]->z);
-        indices[3 * i + c] = static_cast<unsigned>(3 * i + c);
-      }
-    }
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometry(handle, geometry);
-    rtcReleaseGeometry(geometry);
-    rtcCommitScene(handle);
-  }
-  ~RawEmbree() {
-    rtcReleaseScene(handle);
-    rtcReleaseDevice(device);
-  }
-  RawEmbree(const RawEmbree&) = delete;
-  RawEmbree& operator=(const RawEmbree&) = delete;
-
-  RTCDevice device = nullptr;
-  RTCScene handle = nullptr;
-};
+// The raw rate: an EmbreeScene of our own over the same float triangles, and the recorded rays
+// in float, ready for rtcIntersect1 / rtcOccluded1.
 
 RTCRay float_ray(const Vec3& origin, const Vec3& direction, double tnear, double tfar) {
   RTCRay ray{};
@@ -197,7 +162,7 @@ void add_ray_counters(benchmark::State& state, const RecordedScene& r) {
 
 void BM_EmbreeRawClosestHit(benchmark::State& state, const std::string& name) {
   const RecordedScene& r = recorded(name);
-  const RawEmbree raw(*r.scene);
+  const EmbreeScene raw(r.scene->description().triangles);
   std::vector<RTCRay> rays;
   for (const ClosestRay& c : r.closest) {
     rays.push_back(float_ray(c.origin, c.direction, r.scene->epsilon(), 1e30));
@@ -211,7 +176,7 @@ void BM_EmbreeRawClosestHit(benchmark::State& state, const std::string& name) {
     rh.ray = rays[i];
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(raw.handle, &context, &rh);
+    rtcIntersect1(raw.handle(), &context, &rh);
     hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
     if (++i == rays.size()) i = 0;
   }
@@ -222,7 +187,7 @@ void BM_EmbreeRawClosestHit(benchmark::State& state, const std::string& name) {
 
 void BM_EmbreeRawOcclusion(benchmark::State& state, const std::string& name) {
   const RecordedScene& r = recorded(name);
-  const RawEmbree raw(*r.scene);
+  const EmbreeScene raw(r.scene->description().triangles);
   const double epsilon = r.scene->epsilon();
   std::vector<RTCRay> rays;
   for (const ShadowRay& s : r.shadow) {
@@ -236,7 +201,7 @@ void BM_EmbreeRawOcclusion(benchmark::State& state, const std::string& name) {
   std::uint64_t blocked = 0;
   for (auto _ : state) {
     RTCRay ray = rays[i];
-    rtcOccluded1(raw.handle, &context, &ray);
+    rtcOccluded1(raw.handle(), &context, &ray);
     blocked += ray.tfar < 0.0f;
     if (++i == rays.size()) i = 0;
   }
@@ -249,7 +214,7 @@ void BM_EmbreeRawOcclusion(benchmark::State& state, const std::string& name) {
 // Scene::intersect fills it (zeroed RTCRayHit, float conversions), with no distance recomputation.
 void BM_EmbreeRawClosestHitFilled(benchmark::State& state, const std::string& name) {
   const RecordedScene& r = recorded(name);
-  const RawEmbree raw(*r.scene);
+  const EmbreeScene raw(r.scene->description().triangles);
   const auto tnear = static_cast<float>(r.scene->epsilon());
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
@@ -268,7 +233,7 @@ void BM_EmbreeRawClosestHitFilled(benchmark::State& state, const std::string& na
     rh.ray.tfar = 1e30f;
     rh.ray.mask = 0xFFFFFFFFu;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(raw.handle, &context, &rh);
+    rtcIntersect1(raw.handle(), &context, &rh);
     hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
     if (++i == r.closest.size()) i = 0;
   }

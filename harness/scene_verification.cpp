@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <span>
 
 #include "harness/image_statistics.h"
 #include "integrands/scenes/scene_integrand.h"
@@ -192,14 +193,16 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
     if (!scene) continue;
     const PixelStatistics& s = stats.at(&r);
     std::optional<Image> reference;
-    std::vector<Image> reference_images;  // what the pixel test compares with
+    std::span<const Image> reference_images;                // what the pixel test compares with
+    const PixelStatistics* reference_statistics = nullptr;  // of a reference run
     std::string reference_kind = "none";
     if (scene->exact_radiance()) {
       reference = constant_image(scene->scene(), *scene->exact_radiance());
-      reference_images = {*reference};
+      reference_images = std::span(&*reference, 1);
       reference_kind = "exact";
     } else if (const RunRecord* b = best_other(converged[r.plan->integrand], &r)) {
-      reference = stats.at(b).mean;
+      reference_statistics = &stats.at(b);
+      reference = reference_statistics->mean;
       reference_images = b->result.images;
       reference_kind = "run " + b->plan->id;
     }
@@ -214,8 +217,7 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
     nlohmann::ordered_json image = {{"width", s.mean.width}, {"height", s.mean.height}};
     image["rays_per_cpu_second"] = rays_per_cpu_second(r);
     if (reference) {
-      const Image z = reference_images.size() == 1 ? z_map(s, *reference)
-                                                   : z_map(s, pixel_statistics(reference_images));
+      const Image z = reference_statistics ? z_map(s, *reference_statistics) : z_map(s, *reference);
       const PixelTestSummary pixels = summarize_z(z, r.result.images, reference_images);
       image["pixel_test"] = {{"test", "pixel-z"},
                              {"statistic", pixels.max_abs_z},

@@ -1,6 +1,6 @@
 #include "integrands/scenes/scene.h"
 
-#include <embree3/rtcore.h>
+#include "integrands/scenes/embree_scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -56,19 +56,10 @@ bool is_convex_enclosure(const SceneDescription& d) {
   return convex_enclosure(d, normals, 1e-9 * bounding_diagonal(d));
 }
 
-struct Scene::Embree {
-  RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-  ~Embree() {
-    if (scene) rtcReleaseScene(scene);
-    if (device) rtcReleaseDevice(device);
-  }
-};
-
 Scene::Scene(SceneDescription description)
     : description_(std::move(description)),
       camera_(description_.camera, description_.width, description_.height),
-      embree_(std::make_unique<Embree>()) {
+      embree_(std::make_unique<EmbreeScene>(description_.triangles)) {
   for (const Triangle& t : description_.triangles) normals_.push_back(triangle_normal(t));
   emitters_ = std::make_unique<Emitters>(description_);
   const double diagonal = bounding_diagonal(description_);
@@ -80,30 +71,6 @@ Scene::Scene(SceneDescription description)
     traits_.has_specular |= m.kind == MaterialKind::kMirror;
   }
   traits_.has_point_lights = emitters_->has_point_lights();
-
-  embree_->device = rtcNewDevice(nullptr);
-  if (!embree_->device) throw std::runtime_error("Embree: rtcNewDevice failed");
-  embree_->scene = rtcNewScene(embree_->device);
-  RTCGeometry geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  const std::size_t n = description_.triangles.size();
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
-  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
-  for (std::size_t i = 0; i < n; ++i) {
-    const Triangle& t = description_.triangles[i];
-    const Vec3* corners[3] = {&t.p0, &t.p1, &t.p2};
-    for (int c = 0; c < 3; ++c) {
-      vertices[9 * i + 3 * c + 0] = static_cast<float>(corners[c]->x);
-      vertices[9 * i + 3 * c + 1] = static_cast<float>(corners[c]->y);
-      vertices[9 * i + 3 * c + 2] = static_cast<float>(corners[c]->z);
-      indices[3 * i + c] = static_cast<unsigned>(3 * i + c);
-    }
-  }
-  rtcCommitGeometry(geometry);
-  rtcAttachGeometry(embree_->scene, geometry);
-  rtcReleaseGeometry(geometry);
-  rtcCommitScene(embree_->scene);
 }
 
 Scene::~Scene() = default;
@@ -123,7 +90,7 @@ bool Scene::intersect(const Vec3& origin, const Vec3& direction, Hit& hit,
   rh.ray.tfar = static_cast<float>(std::min(max_distance, 1e30));
   rh.ray.mask = 0xFFFFFFFFu;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(embree_->scene, &context, &rh);
+  rtcIntersect1(embree_->handle(), &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit.triangle = rh.hit.primID;
   // The distance is recomputed in double against the triangle's plane, so that the hit point
@@ -153,7 +120,7 @@ bool Scene::occluded(const Vec3& a, const Vec3& b) const {
   ray.tnear = static_cast<float>(epsilon_);
   ray.tfar = static_cast<float>(distance - epsilon_);
   ray.mask = 0xFFFFFFFFu;
-  rtcOccluded1(embree_->scene, &context, &ray);
+  rtcOccluded1(embree_->handle(), &context, &ray);
   return ray.tfar == -std::numeric_limits<float>::infinity();
 }
 

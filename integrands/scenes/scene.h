@@ -14,6 +14,8 @@
 
 namespace pcbench::scene {
 
+class EmbreeScene;
+
 struct Hit {
   double distance = 0.0;
   std::uint32_t triangle = 0;
@@ -66,8 +68,7 @@ class Scene {
   CameraModel camera_;
   SceneTraits traits_;
   double epsilon_ = 1e-4;
-  struct Embree;
-  std::unique_ptr<Embree> embree_;
+  std::unique_ptr<EmbreeScene> embree_;
 };
 
 }  // namespace pcbench::scene

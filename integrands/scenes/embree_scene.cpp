@@ -1,0 +1,37 @@
+#include "integrands/scenes/embree_scene.h"
+
+#include <stdexcept>
+
+namespace pcbench::scene {
+
+EmbreeScene::EmbreeScene(const std::vector<Triangle>& triangles) {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw std::runtime_error("Embree: rtcNewDevice failed");
+  scene_ = rtcNewScene(device_);
+  RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  const std::size_t n = triangles.size();
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3* corners[3] = {&triangles[i].p0, &triangles[i].p1, &triangles[i].p2};
+    for (int c = 0; c < 3; ++c) {
+      vertices[9 * i + 3 * c + 0] = static_cast<float>(corners[c]->x);
+      vertices[9 * i + 3 * c + 1] = static_cast<float>(corners[c]->y);
+      vertices[9 * i + 3 * c + 2] = static_cast<float>(corners[c]->z);
+      indices[3 * i + c] = static_cast<unsigned>(3 * i + c);
+    }
+  }
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(scene_, geometry);
+  rtcReleaseGeometry(geometry);
+  rtcCommitScene(scene_);
+}
+
+EmbreeScene::~EmbreeScene() {
+  if (scene_) rtcReleaseScene(scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+}  // namespace pcbench::scene

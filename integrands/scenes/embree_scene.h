@@ -1,0 +1,28 @@
+// An Embree 3 device and committed triangle scene built from a scene's triangles (float copies,
+// one vertex triple per triangle), released on destruction. Scene traces through it; the
+// benchmarks call Embree on it directly to measure the raw rate.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <vector>
+
+#include "integrands/scenes/scene_description.h"
+
+namespace pcbench::scene {
+
+class EmbreeScene {
+ public:
+  explicit EmbreeScene(const std::vector<Triangle>& triangles);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  RTCScene handle() const { return scene_; }
+
+ private:
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+};
+
+}  // namespace pcbench::scene
