@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "harness/progress.h"
 #include "harness/report_compare.h"
 #include "harness/statistics.h"
 #include "harness/summary.h"
@@ -141,8 +142,20 @@ int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& o
 namespace {
 
 // Runs one plan and tests it alone (the family's correction comes later).
+// What a finished run came to, for the progress log (before the family's correction).
+std::string outcome_of(const RunRecord& record) {
+  const RunResult& result = record.result;
+  if (result.status == RunStatus::kOk && record.verdict) {
+    if (!record.verdict->tested) return fmt::format("ok, {}", record.verdict->result);
+    return fmt::format("ok, raw p {:.3g}", record.verdict->p_value);
+  }
+  if (result.error.empty()) return to_string(result.status);
+  return fmt::format("{}: {}", to_string(result.status), result.error);
+}
+
+// Runs one plan and tests it alone (the family's correction comes later).
 RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, bool& interrupted,
-                           std::ostream& err) {
+                           ProgressReporter& progress) {
   RunRecord record;
   record.plan = &plan;
   if (options.interrupted != nullptr && options.interrupted->load()) interrupted = true;
@@ -152,11 +165,12 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, b
     record.result.error = "interrupted before the run started";
     return record;
   }
-  if (!options.quiet) {
-    err << fmt::format("running {} × {} ({} samples × {} replicates)\n", plan.estimator->name,
-                       plan.integrand->name, plan.samples, plan.replicates);
-  }
-  record.result = execute_run(plan, {.seed = options.seed, .interrupted = options.interrupted});
+  std::atomic<std::uint64_t>* samples_done =
+      progress.run_started(fmt::format("{} × {}", plan.estimator->name, plan.integrand->name),
+                           plan.samples * plan.replicates);
+  record.result = execute_run(
+      plan,
+      {.seed = options.seed, .interrupted = options.interrupted, .samples_done = samples_done});
   if (record.result.status == RunStatus::kNotRun) interrupted = true;
   if (record.result.status == RunStatus::kOk) {
     record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
@@ -165,6 +179,7 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, b
   } else if (record.result.status == RunStatus::kInvalid) {
     record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
   }
+  progress.run_finished(outcome_of(record));
   return record;
 }
 
@@ -172,7 +187,8 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, b
 // CPU seconds per sample; N = seconds / that, in whole batches, at least 1024.
 constexpr std::uint64_t kPilotSamples = 8192;
 
-RunPlan choose_samples(const RunPlan& plan, const SessionOptions& options, std::ostream& err) {
+RunPlan choose_samples(const RunPlan& plan, const SessionOptions& options,
+                       ProgressReporter& progress) {
   RunPlan pilot = with_samples(plan, kPilotSamples);
   pilot.replicates = 2;
   assign_id(pilot);
@@ -187,11 +203,9 @@ RunPlan choose_samples(const RunPlan& plan, const SessionOptions& options, std::
     samples = static_cast<std::uint64_t>(
         std::clamp(batches * kBatchSize, 1024.0, static_cast<double>(kMaxSamples)));
   }
-  if (!options.quiet) {
-    err << fmt::format("pilot {} × {}: {:.3g} µs per sample -> {} samples for {} s\n",
-                       plan.estimator->name, plan.integrand->name, 1e6 * per_sample, samples,
-                       *plan.seconds);
-  }
+  progress.message(fmt::format("pilot {} × {}: {:.3g} µs per sample -> {} samples for {} s",
+                               plan.estimator->name, plan.integrand->name, 1e6 * per_sample,
+                               samples, *plan.seconds));
   RunPlan chosen = with_chosen_samples(plan, samples);
   chosen.pilot_samples = kPilotSamples;
   chosen.pilot_cpu_per_sample = per_sample;
@@ -260,13 +274,19 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   records.reserve(plans.size());
   bool interrupted = false;
   std::deque<RunPlan> chosen_plans;  // stable addresses for the records that point at them
+  std::uint64_t planned_work = 0;
+  for (const RunPlan& plan : plans) planned_work += plan.samples * plan.replicates;
+  std::optional<ProgressReporter> progress;
+  progress.emplace(progress_mode(err, options.quiet), err, plans.size(), planned_work);
   for (const RunPlan& plan : plans) {
     const RunPlan* to_run = &plan;
     if (plan.seconds && !interrupted) {
-      chosen_plans.push_back(choose_samples(plan, options, err));
+      chosen_plans.push_back(choose_samples(plan, options, *progress));
       to_run = &chosen_plans.back();
+      // The pilot's choice replaces the planned count in the time left.
+      progress->add_work(to_run->samples * to_run->replicates - plan.samples * plan.replicates, 0);
     }
-    records.push_back(execute_and_test(*to_run, options, interrupted, err));
+    records.push_back(execute_and_test(*to_run, options, interrupted, *progress));
   }
 
   // One family: the runs' tests and the pairwise comparisons, Holm at alpha (at alpha / 2 when
@@ -298,7 +318,8 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
                                   .result = record.verdict->result,
                                   .reason = record.verdict->reason};
         later_plans.push_back(with_samples(*record.plan, record.plan->samples * kEscalationFactor));
-        RunRecord next = execute_and_test(later_plans.back(), options, interrupted, err);
+        progress->add_work(later_plans.back().samples * later_plans.back().replicates, 1);
+        RunRecord next = execute_and_test(later_plans.back(), options, interrupted, *progress);
         if (next.verdict) {
           std::vector<Verdict*> alone = {&*next.verdict};
           decide_family(alone, stage_alpha);
@@ -309,6 +330,8 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
       }
     }
   }
+
+  progress.reset();  // clears the terminal line before the summary
 
   ReportSections sections;
   std::vector<Comparison> finished;
