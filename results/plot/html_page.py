@@ -21,6 +21,7 @@ th, td { border: 1px solid #ddd; padding: 2px 6px; text-align: left; vertical-al
 th { background: #f5f5f5; position: sticky; top: 0; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 td.verdict { color: white; font-weight: bold; }
+td.reason { min-width: 28em; }
 tr.unexpected td { background: #fff3e0; }
 dl.context { display: grid; grid-template-columns: max-content auto; gap: 0 1em;
              font-size: 0.85em; }
@@ -138,7 +139,8 @@ def comparisons_table(comparisons):
             _cell(c.get("a")), _cell(c.get("b")), _cell(c.get("estimator", "")),
             _cell(c.get("integrand", "")), _cell(c.get("test")),
             _cell(_fmt(c.get("p_value"), 3), "num"), _cell(_fmt(c.get("p_adjusted"), 3), "num"),
-            _verdict_cell(c.get("result")), _cell(c.get("expect")), _cell(c.get("reason", ""))
+            _verdict_cell(c.get("result")), _cell(c.get("expect")),
+            _cell(c.get("reason", ""), "reason")
         ]) + "</tr>")
     rows.append("</tbody></table>")
     return "\n".join(rows)
