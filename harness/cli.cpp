@@ -37,6 +37,7 @@ struct RunArguments {
   unsigned threads = 0;
   std::string out_dir;
   bool quiet = false;
+  bool interleave = false;
   // verify only
   bool verify = false;
   double alpha = kDefaultAlpha;
@@ -164,6 +165,7 @@ SessionOptions session_options(const RunArguments& args, const std::vector<std::
   session.interrupted = interrupted;
   session.alpha = args.alpha;
   session.escalate = args.verify;
+  session.interleave = args.interleave;
   if (!args.out_dir.empty()) session.out_dir = args.out_dir;
   return session;
 }
@@ -206,6 +208,7 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     budget.seconds = suite.seconds;
     if (suite.seed && run_app.count("--seed") == 0) session.seed = *suite.seed;
     session.compare_pairwise = suite.compare_pairwise;
+    session.interleave = session.interleave || suite.interleave;
   } else {
     grids = grids_from_flags(args);
   }
@@ -269,6 +272,9 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_option("--out,-o", args.out_dir,
                   "output folder (default results/runs/<date-time>/, linked as results/latest)");
   app->add_flag("--quiet,-q", args.quiet, "no progress and no summary table");
+  app->add_flag("--interleave", args.interleave,
+                "runs on one integrand take their replicates in turn; prints their efficiency "
+                "ratios with intervals");
 }
 
 }  // namespace

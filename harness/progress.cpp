@@ -81,9 +81,9 @@ std::atomic<std::uint64_t>* ProgressReporter::run_started(const std::string& lab
   return &run_samples_;
 }
 
-void ProgressReporter::run_finished(const std::string& outcome) {
+void ProgressReporter::run_finished(const std::string& outcome, std::size_t runs) {
   std::lock_guard lock(mutex_);
-  ++runs_done_;
+  runs_done_ += runs;
   work_done_ += run_work_;
   if (mode_ == ProgressMode::kLines) {
     err_ << status_line(true) << ": " << outcome << "\n" << std::flush;

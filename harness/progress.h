@@ -34,8 +34,9 @@ class ProgressReporter {
   // A run of `work` samples × replicates begins; the runner counts its finished samples (summed
   // over replicates) in the returned counter, which stays valid until run_finished.
   std::atomic<std::uint64_t>* run_started(const std::string& label, std::uint64_t work);
-  // `outcome`: what the run came to (its verdict or status), for the log line.
-  void run_finished(const std::string& outcome);
+  // `outcome`: what the run came to (its verdict or status), for the log line. `runs`: how many
+  // runs the finished work was (interleaved runs are reported as one piece of work).
+  void run_finished(const std::string& outcome, std::size_t runs = 1);
   // A message that must not be overdrawn by the updating line (a pilot's choice, a warning).
   void message(const std::string& text);
 

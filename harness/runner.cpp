@@ -89,6 +89,45 @@ std::vector<std::uint64_t> series_checkpoints(std::uint64_t samples) {
   return out;
 }
 
+std::pair<std::uint32_t, std::uint32_t> replicate_range(const RunPlan& plan,
+                                                        const RunnerOptions& options) {
+  const std::uint32_t first = std::min(options.first_replicate, plan.replicates);
+  const std::uint32_t count =
+      options.replicate_count == 0 ? plan.replicates - first : options.replicate_count;
+  return {first, std::min(plan.replicates, first + count)};
+}
+
+RunResult not_run_result(const RunPlan& plan, std::string why) {
+  RunResult result;
+  result.status = RunStatus::kNotRun;
+  result.error = std::move(why);
+  result.reference = plan.made_integrand->reference();
+  return result;
+}
+
+void append_part(RunResult& run, RunResult&& part) {
+  if (run.status == RunStatus::kOk && part.status != RunStatus::kOk) {
+    run.status = part.status;
+    run.error = std::move(part.error);
+  }
+  if (!run.first_nonfinite) run.first_nonfinite = part.first_nonfinite;
+  run.wall_seconds += part.wall_seconds;
+  run.counters.add(part.counters);
+  for (auto& rep : part.replicates) run.replicates.push_back(std::move(rep));
+  for (auto& image : part.images) run.images.push_back(std::move(image));
+  for (const auto& [name, count] : part.scene_counters) {
+    const auto same = std::find_if(run.scene_counters.begin(), run.scene_counters.end(),
+                                   [&](const auto& c) { return c.first == name; });
+    if (same == run.scene_counters.end()) {
+      run.scene_counters.emplace_back(name, count);
+    } else if (name == "scene_builds") {
+      same->second = count;  // BVH builds so far in this process, not work of the part
+    } else {
+      same->second += count;
+    }
+  }
+}
+
 std::uint32_t chunk_size(std::uint64_t samples) {
   // At most 64 chunks per replicate keeps the merge cheap; at least 16 batches per chunk keeps
   // the per-chunk overhead small. Both depend on N only.
@@ -110,7 +149,9 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   const std::uint64_t samples = plan.samples;
   const std::uint32_t chunk = chunk_size(samples);
   const std::uint64_t chunks_per_replicate = (samples + chunk - 1) / chunk;
-  const std::uint64_t task_count = chunks_per_replicate * plan.replicates;
+  const auto [first_replicate, end_replicate] = replicate_range(plan, options);
+  const std::uint32_t replicates = end_replicate - first_replicate;
+  const std::uint64_t task_count = chunks_per_replicate * replicates;
   std::vector<ChunkResult> chunks;
 
   const std::uint64_t key = run_key(options.seed, plan.id_hash);
@@ -127,7 +168,8 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
     state.estimates.resize(kBatchSize);
     state.magnitudes.resize(kBatchSize);
 
-    const auto replicate = static_cast<std::uint32_t>(task / chunks_per_replicate);
+    const auto replicate =
+        first_replicate + static_cast<std::uint32_t>(task / chunks_per_replicate);
     const std::uint64_t first = (task % chunks_per_replicate) * chunk;
     const std::uint64_t end = std::min<std::uint64_t>(first + chunk, samples);
     ChunkResult& out = chunks[task];
@@ -189,8 +231,8 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   }
 
   // Merge chunks in sample order: the same floating-point operations for any thread count.
-  result.replicates.resize(plan.replicates);
-  for (std::uint32_t r = 0; r < plan.replicates; ++r) {
+  result.replicates.resize(replicates);
+  for (std::uint32_t r = 0; r < replicates; ++r) {
     Tally tally(kept_largest(samples));
     CompensatedSum magnitude;
     ReplicateResult& rep = result.replicates[r];
@@ -222,7 +264,8 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
       rep.largest_square_share = rep.largest.front() * rep.largest.front() / tally.sum_of_squares();
     }
     if (rep.first_nonfinite_sample && !result.first_nonfinite) {
-      result.first_nonfinite = NonfiniteLocation{options.seed, r, *rep.first_nonfinite_sample};
+      result.first_nonfinite =
+          NonfiniteLocation{options.seed, first_replicate + r, *rep.first_nonfinite_sample};
     }
   }
   result.status = result.first_nonfinite ? RunStatus::kInvalid : RunStatus::kOk;

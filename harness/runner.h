@@ -77,11 +77,28 @@ struct RunnerOptions {
   const std::atomic<bool>* interrupted = nullptr;  // polled between chunks
   // Samples finished so far, summed over replicates (for the progress line); may be null.
   std::atomic<std::uint64_t>* samples_done = nullptr;
+  // Only replicates [first_replicate, first_replicate + replicate_count) (all from the first
+  // when the count is 0), as interleaved runs take them: each replicate's numbers depend only on
+  // its index, so a run taken in parts is the run taken whole.
+  std::uint32_t first_replicate = 0;
+  std::uint32_t replicate_count = 0;
 };
 
 // The chunk (unit of parallel work, a multiple of kBatchSize) for N samples.
 std::uint32_t chunk_size(std::uint64_t samples);
 
 RunResult execute_run(const RunPlan& plan, const RunnerOptions& options);
+
+// The result of a run that did not run (an interrupt came first), saying why.
+RunResult not_run_result(const RunPlan& plan, std::string why);
+
+// The replicates of `options` (all of the plan's by default): [first, end).
+std::pair<std::uint32_t, std::uint32_t> replicate_range(const RunPlan& plan,
+                                                        const RunnerOptions& options);
+
+// Appends a later part of the same run (its next replicates) to `run`: replicates, images,
+// counters and times; the first non-finite sample and a failure are kept from whichever part
+// had them first.
+void append_part(RunResult& run, RunResult&& part);
 
 }  // namespace pcbench

@@ -50,7 +50,8 @@ RunResult execute_scene_run(const RunPlan& plan, const RunnerOptions& options) {
     const auto interrupted = [&] {
       return options.interrupted != nullptr && options.interrupted->load();
     };
-    for (std::uint32_t r = 0; r < plan.replicates; ++r) {
+    const auto [first_replicate, end_replicate] = replicate_range(plan, options);
+    for (std::uint32_t r = first_replicate; r < end_replicate; ++r) {
       scene::ReplicateImage rendered =
           scene::render_replicate(integrand.scene(), *plan.render, key, r,
                                   static_cast<std::uint32_t>(plan.samples), options.interrupted);
@@ -80,7 +81,7 @@ RunResult execute_scene_run(const RunPlan& plan, const RunnerOptions& options) {
       integrand.scene().description().width * std::uint64_t{integrand.scene().description().height};
   result.counters.camera_paths = plan.render->method == scene::Method::kLightTracing
                                      ? 0
-                                     : pixels * plan.samples * plan.replicates;
+                                     : pixels * plan.samples * result.replicates.size();
   result.counters.light_paths = counters.light_paths;
   result.counters.connections = counters.connections;
   result.scene_counters = {{"camera_rays", counters.camera_rays},

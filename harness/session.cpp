@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "harness/interleaved_runs.h"
 #include "harness/progress.h"
 #include "harness/report_compare.h"
 #include "harness/statistics.h"
@@ -141,7 +142,6 @@ int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& o
 
 namespace {
 
-// Runs one plan and tests it alone (the family's correction comes later).
 // What a finished run came to, for the progress log (before the family's correction).
 std::string outcome_of(const RunRecord& record) {
   const RunResult& result = record.result;
@@ -153,25 +153,11 @@ std::string outcome_of(const RunRecord& record) {
   return fmt::format("{}: {}", to_string(result.status), result.error);
 }
 
-// Runs one plan and tests it alone (the family's correction comes later).
-RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, bool& interrupted,
-                           ProgressReporter& progress) {
+// Tests one finished run alone (the family's correction comes later).
+RunRecord tested_record(const RunPlan& plan, RunResult result) {
   RunRecord record;
   record.plan = &plan;
-  if (options.interrupted != nullptr && options.interrupted->load()) interrupted = true;
-  if (interrupted) {
-    record.result.status = RunStatus::kNotRun;
-    record.result.reference = plan.made_integrand->reference();
-    record.result.error = "interrupted before the run started";
-    return record;
-  }
-  std::atomic<std::uint64_t>* samples_done =
-      progress.run_started(fmt::format("{} × {}", plan.estimator->name, plan.integrand->name),
-                           plan.samples * plan.replicates);
-  record.result = execute_run(
-      plan,
-      {.seed = options.seed, .interrupted = options.interrupted, .samples_done = samples_done});
-  if (record.result.status == RunStatus::kNotRun) interrupted = true;
+  record.result = std::move(result);
   if (record.result.status == RunStatus::kOk) {
     record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
     record.diagnostics = diagnose_samples(record.result.replicates);
@@ -179,6 +165,23 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, b
   } else if (record.result.status == RunStatus::kInvalid) {
     record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
   }
+  return record;
+}
+
+// Runs one plan and tests it alone.
+RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, bool& interrupted,
+                           ProgressReporter& progress) {
+  if (options.interrupted != nullptr && options.interrupted->load()) interrupted = true;
+  if (interrupted) {
+    return tested_record(plan, not_run_result(plan, "interrupted before the run started"));
+  }
+  std::atomic<std::uint64_t>* samples_done =
+      progress.run_started(fmt::format("{} × {}", plan.estimator->name, plan.integrand->name),
+                           plan.samples * plan.replicates);
+  RunRecord record = tested_record(plan, execute_run(plan, {.seed = options.seed,
+                                                            .interrupted = options.interrupted,
+                                                            .samples_done = samples_done}));
+  if (record.result.status == RunStatus::kNotRun) interrupted = true;
   progress.run_finished(outcome_of(record));
   return record;
 }
@@ -278,15 +281,29 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   for (const RunPlan& plan : plans) planned_work += plan.samples * plan.replicates;
   std::optional<ProgressReporter> progress;
   progress.emplace(progress_mode(err, options.quiet), err, plans.size(), planned_work);
+  // Equal-time plans get their sample counts from pilots first.
+  std::vector<const RunPlan*> to_run;
   for (const RunPlan& plan : plans) {
-    const RunPlan* to_run = &plan;
-    if (plan.seconds && !interrupted) {
+    to_run.push_back(&plan);
+    if (plan.seconds && !(options.interrupted != nullptr && options.interrupted->load())) {
       chosen_plans.push_back(choose_samples(plan, options, *progress));
-      to_run = &chosen_plans.back();
+      to_run.back() = &chosen_plans.back();
       // The pilot's choice replaces the planned count in the time left.
-      progress->add_work(to_run->samples * to_run->replicates - plan.samples * plan.replicates, 0);
+      progress->add_work(
+          chosen_plans.back().samples * plan.replicates - plan.samples * plan.replicates, 0);
     }
-    records.push_back(execute_and_test(*to_run, options, interrupted, *progress));
+  }
+  if (options.interleave) {
+    std::vector<RunResult> results = execute_interleaved(
+        to_run, {.seed = options.seed, .interrupted = options.interrupted}, *progress);
+    for (std::size_t i = 0; i < to_run.size(); ++i) {
+      records.push_back(tested_record(*to_run[i], std::move(results[i])));
+      if (records.back().result.status == RunStatus::kNotRun) interrupted = true;
+    }
+  } else {
+    for (const RunPlan* plan : to_run) {
+      records.push_back(execute_and_test(*plan, options, interrupted, *progress));
+    }
   }
 
   // One family: the runs' tests and the pairwise comparisons, Holm at alpha (at alpha / 2 when
@@ -344,6 +361,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     finished.push_back(comparison);
   }
   sections.comparisons = comparisons_json(finished);
+  sections.efficiency_ratios = efficiency_ratios_json(records, options.interleave);
   const fs::path folder = report_folder(options);
   std::optional<fs::path> report_path;
   try {
@@ -363,6 +381,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
                          c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect),
                          c.reason);
     }
+    if (options.interleave) print_efficiency_ratios(sections.efficiency_ratios, out);
   }
   if (!report_path) return kExitRunFailed;
   out << "report: " << report_path->string() << "\n";

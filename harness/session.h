@@ -43,6 +43,9 @@ struct SessionOptions {
   // the first stage (Holm), half is split evenly (Bonferroni) over every possible later stage
   // of every run, so the family-wise false-alarm rate stays below alpha whatever is escalated.
   bool escalate = false;
+  // Runs on one integrand take their replicates in turn (harness/interleaved_runs.h), so that
+  // their efficiency ratios compare them under the same machine load.
+  bool interleave = false;
   std::vector<std::string> argv;
   const std::atomic<bool>* interrupted = nullptr;
 };

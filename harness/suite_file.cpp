@@ -41,7 +41,8 @@ class SuiteParser {
                                    line_and_column(text, e.byte), e.what()));
     }
     require_object(root, "");
-    check_keys(root, "", {"name", "description", "defaults", "runs", "grid", "compare"});
+    check_keys(root, "",
+               {"name", "description", "defaults", "runs", "grid", "compare", "interleave"});
     SuiteRequest suite;
     suite.name = root.contains("name") ? string_at(root["name"], "/name") : "unnamed";
     if (root.contains("compare")) {
@@ -51,6 +52,10 @@ class SuiteParser {
              fmt::format("'{}' is not a comparison mode; valid: pairwise, none", compare));
       }
       suite.compare_pairwise = compare == "pairwise";
+    }
+    if (root.contains("interleave")) {
+      if (!root["interleave"].is_boolean()) fail("/interleave", "must be true or false");
+      suite.interleave = root["interleave"].get<bool>();
     }
     if (root.contains("defaults")) {
       const Json& defaults = root["defaults"];

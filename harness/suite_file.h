@@ -24,6 +24,8 @@ struct SuiteRequest {
   // "compare": "pairwise": two-sample tests between every pair of runs on the same integrand
   // (same parameters), counted in the family-wise alpha and the exit status.
   bool compare_pairwise = false;
+  // "interleave": true: runs on one integrand take their replicates in turn (--interleave).
+  bool interleave = false;
 };
 
 SuiteRequest parse_suite(const std::string& text, const std::string& file_name);

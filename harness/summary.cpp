@@ -124,3 +124,19 @@ void print_summary(const std::vector<RunRecord>& records, std::ostream& out) {
 }
 
 }  // namespace pcbench
+
+namespace pcbench {
+
+void print_efficiency_ratios(const nlohmann::json& ratios, std::ostream& out) {
+  for (const nlohmann::json& r : ratios) {
+    out << fmt::format(
+        "  efficiency of {} on {}: {:.3g}x [{:.3g}, {:.3g}] ({:.0f}%; variance {:.3g}x, cost "
+        "{:.3g}x{})\n",
+        r["estimator"].get<std::string>(), r["integrand"].get<std::string>(),
+        r["ratio"].get<double>(), r["low"].get<double>(), r["high"].get<double>(),
+        100.0 * r["level"].get<double>(), r["variance_ratio"].get<double>(),
+        r["cost_ratio"].get<double>(), r["interleaved"].get<bool>() ? ", interleaved" : "");
+  }
+}
+
+}  // namespace pcbench

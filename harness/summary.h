@@ -10,4 +10,7 @@ namespace pcbench {
 
 void print_summary(const std::vector<RunRecord>& records, std::ostream& out);
 
+// The efficiency ratios (report form, harness/interleaved_runs.h), one line each.
+void print_efficiency_ratios(const nlohmann::json& ratios, std::ostream& out);
+
 }  // namespace pcbench

@@ -287,6 +287,9 @@ std::string report_json(const Context& context, const std::string& suite_name,
   }
   if (sections.calibration) report["calibration"] = *sections.calibration;
   if (!sections.external.empty()) report["external"] = sections.external;
+  if (!sections.efficiency_ratios.empty()) {
+    report["efficiency_ratios"] = sections.efficiency_ratios;
+  }
   return report.dump(2) + "\n";
 }
 

@@ -55,6 +55,7 @@ struct ReportSections {
   std::vector<ExactRecord> exact_checks = {};
   std::optional<nlohmann::json> calibration = {};
   nlohmann::json external = nlohmann::json::array();  // verify --estimates, in the schema's form
+  nlohmann::json efficiency_ratios = nlohmann::json::array();  // harness/interleaved_runs.h
 };
 
 std::string report_json(const Context& context, const std::string& suite_name,

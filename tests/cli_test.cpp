@@ -219,6 +219,42 @@ TEST_F(CliInFolder, ReportNumbersAreIdenticalForOneAndTwoThreads) {
   EXPECT_EQ(numbers_of(a), numbers_of(b));
 }
 
+// --interleave changes the order replicates run in, never their numbers; it adds efficiency
+// ratios for analytic runs against the first run on each integrand (none for scenes).
+TEST_F(CliInFolder, InterleavedRunsGiveTheSameNumbersAndEfficiencyRatios) {
+  std::ofstream("suite.json") << R"({"name": "interleave", "defaults": {"replicates": 6},
+    "grid": [{"estimator": ["plain", "vc-all"], "integrand": ["genz-gaussian"],
+              "params": {"M": [4]}, "samples": 2048},
+             {"estimator": ["plain", "vc-all"], "integrand": ["furnace"],
+              "params": {"resolution": [8]}, "samples": 2}]})";
+  const std::vector<std::string> common = {"run", "suite.json", "--quiet"};
+  auto in_turn = common, one_by_one = common;
+  in_turn.insert(in_turn.end(), {"--interleave", "--out", "interleaved"});
+  one_by_one.insert(one_by_one.end(), {"--out", "sequential"});
+  ASSERT_EQ(cli(in_turn).status, 0);
+  ASSERT_EQ(cli(one_by_one).status, 0);
+  auto a = report_at("interleaved"), b = report_at("sequential");
+  for (auto* report : {&a, &b}) {
+    for (auto& run : (*report)["runs"]) {
+      if (!run.contains("image")) continue;
+      for (const char* timed : {"rays_per_cpu_second", "cpu_seconds_per_replicate",
+                                "rel_mse_at_1_cpu_second", "efficiency"}) {
+        run["image"].erase(timed);
+      }
+    }
+  }
+  EXPECT_EQ(numbers_of(a), numbers_of(b));
+  ASSERT_EQ(a["efficiency_ratios"].size(), 1u);  // vc-all against plain on genz-gaussian
+  const auto& ratio = a["efficiency_ratios"][0];
+  EXPECT_EQ(ratio["integrand"], "genz-gaussian");
+  EXPECT_EQ(ratio["estimator"], "vc-all vs plain");
+  EXPECT_TRUE(ratio["interleaved"].get<bool>());
+  EXPECT_EQ(ratio["pairs"], 6);
+  EXPECT_LT(ratio["low"].get<double>(), ratio["ratio"].get<double>());
+  EXPECT_GT(ratio["high"].get<double>(), ratio["ratio"].get<double>());
+  EXPECT_FALSE(b["efficiency_ratios"][0]["interleaved"].get<bool>());
+}
+
 TEST_F(CliInFolder, ExitStatusOneWhenAVerdictDiffersFromItsExpectation) {
   std::ofstream("suite.json") << R"({"name": "expect-biased",
     "runs": [{"estimator": "plain", "integrand": "genz-gaussian", "samples": 2000,

@@ -308,6 +308,9 @@ def main():
         cases = [
             ("a-one-run", ["run", "-e", "plain", "-i", "genz-gaussian", "-n", "2000", "-r", "4"],
              0, False),
+            # Interleaved replicates: the report has efficiency ratios.
+            ("a-interleaved", ["run", "-e", "plain,pcbpt", "-i", "genz-gaussian", "-n", "2000",
+                               "-r", "4", "--interleave"], 0, False),
             ("b-nonfinite", ["run", "-e", "plain", "-i", "expr", "-p", "f=1/(x0-x0)", "-n", "1000",
                              "-r", "4"], 3, False),
             ("c-no-reference", ["run", "-e", "plain", "-i", "expr", "-p", "f=x0*y0", "-n", "1000",
