@@ -2,7 +2,7 @@
 
     plot_check.py PCBENCH SOURCE_DIR
 
-Reports: analytic runs with a negative control (series, efficiency, tests), scenes (images with
+Reports: analytic runs with a negative control (series, efficiency and its ratios, tests), scenes (images with
 exact and run references), a calibration (power curve measured), and the analytic report with
 its optional sections (series, images, comparisons, diagnostics) removed. For each: the figures
 the report calls for exist as PNG files, index.html passes tests/page_check.py in headless
@@ -75,7 +75,7 @@ def main():
              "form-factor,genz-gaussian", "-n", "8192", "-r", "8", "--out", analytic, "-q"])
         check_plotted(check, pcbench, os.path.join(analytic, "report.json"),
                       ["verification.png", "convergence_form-factor.png",
-                       "convergence_genz-gaussian.png"], "analytic")
+                       "convergence_genz-gaussian.png", "efficiency_ratios.png"], "analytic")
 
         scenes = os.path.join(scratch, "scenes")
         run([pcbench, "run", "-e", "plain,pt", "-i", "furnace,cornell", "-p", "resolution=16",
@@ -100,6 +100,7 @@ def main():
             report = json.load(f)
         stripped = copy.deepcopy(report)
         stripped.pop("comparisons", None)
+        stripped.pop("efficiency_ratios", None)
         for r in stripped["runs"]:
             for key in ("series", "image", "diagnostics", "escalation", "counters", "budget"):
                 r.pop(key, None)

@@ -126,3 +126,29 @@ def convergence_figure(group_name, runs, colours, path):
     _efficiency_bars(efficiency, runs, names, colours)
     efficiency.set_title("efficiency", fontsize=9)
     return save(fig, path)
+
+
+def efficiency_ratio_figure(ratios, path):
+    """The report's efficiency ratios as a forest plot: each run against its integrand's first
+    honest run, with the interval the report gives (log scale; 1 = as efficient)."""
+    rows = [r for r in ratios if number(r.get("ratio")) and number(r.get("low"))
+            and number(r.get("high"))]
+    if not rows:
+        return None
+    fig, axes = new_figure(1, width=7.0, height=0.9 + 0.28 * len(rows))
+    ax = axes[0][0]
+    ys = list(range(len(rows)))
+    values = [r["ratio"] for r in rows]
+    ax.errorbar(values, ys, xerr=[[v - r["low"] for v, r in zip(values, rows)],
+                                  [r["high"] - v for v, r in zip(values, rows)]],
+                fmt="o", capsize=3, color="#1565c0")
+    ax.axvline(1.0, color="black", linewidth=0.8)
+    ax.set_yticks(ys, [f"{r['estimator']} on {r['integrand']}" for r in rows], fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    level = rows[0].get("level", 0.95)
+    interleaved = all(r.get("interleaved") for r in rows)
+    ax.set_xlabel(f"efficiency ratio ({100 * level:.0f}% interval; "
+                  f"{'interleaved' if interleaved else 'not interleaved: costs measured apart'})")
+    ax.grid(True, axis="x", which="both", alpha=0.3)
+    return save(fig, path)

@@ -146,6 +146,28 @@ def comparisons_table(comparisons):
     return "\n".join(rows)
 
 
+def ratios_table(ratios):
+    if not ratios:
+        return ""
+    head = ("estimators", "integrand", "efficiency ratio", "interval", "variance ratio",
+            "cost ratio", "pairs", "interleaved")
+    rows = ["<h2>Efficiency ratios</h2><table id='efficiency-ratios'><thead><tr>" +
+            "".join(f"<th>{h}</th>" for h in head) + "</tr></thead><tbody>"]
+    for r in ratios:
+        level = number(r.get("level")) or 0.95
+        rows.append("<tr>" + "".join([
+            _cell(r.get("estimator")), _cell(r.get("integrand")),
+            _cell(_fmt(r.get("ratio"), 3), "num"),
+            _cell(f"[{_fmt(r.get('low'), 3)}, {_fmt(r.get('high'), 3)}] "
+                  f"({100 * level:.0f}%)", "num"),
+            _cell(_fmt(r.get("variance_ratio"), 3), "num"),
+            _cell(_fmt(r.get("cost_ratio"), 3), "num"), _cell(r.get("pairs"), "num"),
+            _cell("yes" if r.get("interleaved") else "no")
+        ]) + "</tr>")
+    rows.append("</tbody></table>")
+    return "\n".join(rows)
+
+
 def context_block(report, report_path):
     ctx = report.get("context") or {}
     keys = ("date", "host", "cpu", "cores", "compiler", "flags", "build_type", "git_commit",
@@ -183,18 +205,25 @@ def figure(path, caption):
             f"(<a href='{html.escape(name)}'>{html.escape(name)}</a>)</figcaption></figure>")
 
 
+def _anchor(heading):
+    return "".join(c if c.isalnum() else "-" for c in heading.lower())
+
+
 def page(report, report_path, report_dir, out_dir, sections):
     """The whole page; `sections` is a list of (heading, [(png path, caption)])."""
     runs = report.get("runs") or []
     comparisons = report.get("comparisons") or []
     title = f"pcbench: {report.get('suite', 'report')}"
     body = [f"<h1>{html.escape(title)}</h1>", context_block(report, report_path),
-            summary_line(runs, comparisons), "<h2>Runs</h2>",
+            summary_line(runs, comparisons), "<h2 id='runs-heading'>Runs</h2>",
             runs_table(runs, report_dir, out_dir) if runs else "<p>No runs in this report.</p>",
-            comparisons_table(comparisons)]
+            comparisons_table(comparisons), ratios_table(report.get("efficiency_ratios"))]
+    contents = [("runs-heading", "Runs")] + [(_anchor(h), h) for h, figures in sections if figures]
+    body.insert(3, "<p class='contents'>" + " · ".join(
+        f"<a href='#{a}'>{html.escape(h)}</a>" for a, h in contents) + "</p>")
     for heading, figures in sections:
         if figures:
-            body.append(f"<h2>{html.escape(heading)}</h2>")
+            body.append(f"<h2 id='{_anchor(heading)}'>{html.escape(heading)}</h2>")
             body += [figure(path, caption) for path, caption in figures]
     return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
             f"<title>{html.escape(title)}</title><style>{_STYLE}</style></head><body>\n" +

@@ -18,7 +18,8 @@ EXIT_FAILED = 3
 
 try:
     import report_view  # noqa: E402  (found through the path set above)
-    from convergence_figures import convergence_figure, has_series  # noqa: E402
+    from convergence_figures import (convergence_figure, efficiency_ratio_figure,  # noqa: E402
+                                     has_series)
     from figure_style import EstimatorColours  # noqa: E402
     from html_page import page  # noqa: E402
     from image_figures import scene_figure  # noqa: E402
@@ -58,6 +59,11 @@ def make_sections(report, report_dir, out_dir):
         path = os.path.join(out_dir, f"convergence_{slug(group)}.png")
         convergence.append((convergence_figure(group, members, colours, path),
                             f"{group}: RMSE against samples and CPU time, efficiency"))
+    ratios = efficiency_ratio_figure(report.get("efficiency_ratios") or [],
+                                     os.path.join(out_dir, "efficiency_ratios.png"))
+    if ratios:
+        convergence.insert(0, (ratios, "efficiency of each run relative to the first honest run "
+                                       "on its integrand"))
     sections.append(("Convergence and efficiency", convergence))
 
     scenes = []
