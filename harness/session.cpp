@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "harness/replay.h"
 #include "harness/report_compare.h"
 #include "harness/statistics.h"
 #include "harness/summary.h"
@@ -140,11 +141,46 @@ int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& o
 
 namespace {
 
-// Runs one plan and tests it alone (the family's correction comes later).
-RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, bool& interrupted,
-                           std::ostream& err) {
+// Tests one finished run alone (the family's correction comes later).
+void test_alone(RunRecord& record) {
+  const RunPlan& plan = *record.plan;
+  if (record.result.status == RunStatus::kOk) {
+    record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
+    record.diagnostics = diagnose_samples(record.result.replicates);
+    record.verdict = verdict_for(plan, record.result, record.diagnostics);
+  } else if (record.result.status == RunStatus::kInvalid) {
+    record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
+  }
+}
+
+// The command that replays a run's first non-finite sample, on stderr as the run ends.
+void print_replay(const RunPlan& plan, const RunResult& result, std::ostream& err) {
+  if (!result.first_nonfinite) return;
+  const std::optional<std::string> command = replay_command(plan, *result.first_nonfinite);
+  if (!command) return;
+  err << fmt::format(
+      "pcbench: {} × {}: first non-finite sample at seed {}, replicate {}, sample {}; replay it "
+      "with\n  {}\n",
+      plan.estimator->name, plan.integrand->name, result.first_nonfinite->seed,
+      result.first_nonfinite->replicate, result.first_nonfinite->sample, *command);
+}
+
+// Runs one plan, or restores it from the journal of the session being resumed, saves it to the
+// journal, and tests it alone.
+RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, RunStore& store,
+                           bool& interrupted, std::ostream& err) {
   RunRecord record;
   record.plan = &plan;
+  // A saved run is restored even after Ctrl-C: it costs nothing and the report is fuller.
+  if (const SavedRun* saved = store.restore(plan.id)) {
+    if (!options.quiet) {
+      err << fmt::format("restored {} × {} from {}\n", plan.estimator->name, plan.integrand->name,
+                         store.file_of(plan.id).string());
+    }
+    record.result = saved->result;
+    test_alone(record);
+    return record;
+  }
   if (options.interrupted != nullptr && options.interrupted->load()) interrupted = true;
   if (interrupted) {
     record.result.status = RunStatus::kNotRun;
@@ -158,13 +194,9 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, b
   }
   record.result = execute_run(plan, {.seed = options.seed, .interrupted = options.interrupted});
   if (record.result.status == RunStatus::kNotRun) interrupted = true;
-  if (record.result.status == RunStatus::kOk) {
-    record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
-    record.diagnostics = diagnose_samples(record.result.replicates);
-    record.verdict = verdict_for(plan, record.result, record.diagnostics);
-  } else if (record.result.status == RunStatus::kInvalid) {
-    record.aggregates = aggregate(record.result.replicates, record.result.reference, plan.samples);
-  }
+  store.save(plan, record.result, err);
+  print_replay(plan, record.result, err);
+  test_alone(record);
   return record;
 }
 
@@ -195,6 +227,15 @@ RunPlan choose_samples(const RunPlan& plan, const SessionOptions& options, std::
   RunPlan chosen = with_chosen_samples(plan, samples);
   chosen.pilot_samples = kPilotSamples;
   chosen.pilot_cpu_per_sample = per_sample;
+  return chosen;
+}
+
+// An equal-time run restored from the journal: the sample count its pilot chose then (a new
+// pilot would measure another machine load, hence another N and other numbers).
+RunPlan restored_choice(const RunPlan& plan, const SavedRun& saved) {
+  RunPlan chosen = with_chosen_samples(plan, saved.samples);
+  chosen.pilot_samples = saved.pilot_samples;
+  chosen.pilot_cpu_per_sample = saved.pilot_cpu_per_sample;
   return chosen;
 }
 
@@ -256,17 +297,35 @@ std::vector<std::pair<Comparison, Verdict>> pairwise_comparisons(
 
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err) {
+  // The folder is chosen first: finished runs are saved there as they finish (harness/run_store.h).
+  const fs::path folder = report_folder(options);
+  std::shared_ptr<RunStore> store = options.resume;
+  if (!store) {
+    try {
+      store = std::make_shared<RunStore>(
+          RunStore::start(folder, options.seed, options.suite_name, plans));
+    } catch (const std::exception& e) {
+      err << "pcbench: error: cannot write to " << folder.string() << ": " << e.what() << "\n";
+      return kExitRunFailed;
+    }
+  }
+
   std::vector<RunRecord> records;
   records.reserve(plans.size());
   bool interrupted = false;
   std::deque<RunPlan> chosen_plans;  // stable addresses for the records that point at them
   for (const RunPlan& plan : plans) {
     const RunPlan* to_run = &plan;
-    if (plan.seconds && !interrupted) {
-      chosen_plans.push_back(choose_samples(plan, options, err));
-      to_run = &chosen_plans.back();
+    if (plan.seconds) {
+      if (const SavedRun* saved = store->find(plan.id)) {
+        chosen_plans.push_back(restored_choice(plan, *saved));
+        to_run = &chosen_plans.back();
+      } else if (!interrupted) {
+        chosen_plans.push_back(choose_samples(plan, options, err));
+        to_run = &chosen_plans.back();
+      }
     }
-    records.push_back(execute_and_test(*to_run, options, interrupted, err));
+    records.push_back(execute_and_test(*to_run, options, *store, interrupted, err));
   }
 
   // One family: the runs' tests and the pairwise comparisons, Holm at alpha (at alpha / 2 when
@@ -298,7 +357,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
                                   .result = record.verdict->result,
                                   .reason = record.verdict->reason};
         later_plans.push_back(with_samples(*record.plan, record.plan->samples * kEscalationFactor));
-        RunRecord next = execute_and_test(later_plans.back(), options, interrupted, err);
+        RunRecord next = execute_and_test(later_plans.back(), options, *store, interrupted, err);
         if (next.verdict) {
           std::vector<Verdict*> alone = {&*next.verdict};
           decide_family(alone, stage_alpha);
@@ -321,14 +380,15 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     finished.push_back(comparison);
   }
   sections.comparisons = comparisons_json(finished);
-  const fs::path folder = report_folder(options);
   std::optional<fs::path> report_path;
   try {
     write_scene_images(records, folder);
-    report_path =
-        publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
-                                   options.suite_name, records, sections),
-                       options, folder, err);
+    Context context = gather_context(options.argv, options.seed, options.threads);
+    if (options.resume) {
+      context.restored_runs = store->restored();
+    }
+    report_path = publish_report(report_json(context, options.suite_name, records, sections),
+                                 options, folder, err);
   } catch (const std::exception& e) {
     err << "pcbench: error: cannot write the images of " << folder.string() << ": " << e.what()
         << "\n";
@@ -343,6 +403,14 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   }
   if (!report_path) return kExitRunFailed;
   out << "report: " << report_path->string() << "\n";
+  if (interrupted) {
+    err << fmt::format(
+        "pcbench: interrupted; the finished runs are saved in {}: the same command with --out {} "
+        "--resume runs the rest\n",
+        store->directory().string(), folder.string());
+  } else {
+    store->discard(err);  // the report holds every run now
+  }
 
   bool differs = false;
   bool failed = false;
