@@ -111,10 +111,16 @@ fs::path RunStore::file_of(const std::string& id) const {
 }
 
 RunStore RunStore::start(const fs::path& folder, std::uint64_t seed, const std::string& suite_name,
-                         const std::vector<RunPlan>& plans) {
+                         const std::vector<RunPlan>& plans, std::ostream& err) {
   RunStore store(checkpoint_directory(folder), seed);
   // Only pcbench's own folder is removed: checkpoints of another session must not be restored
   // into this one.
+  if (fs::exists(manifest_path(store.directory_))) {
+    err << fmt::format(
+        "pcbench: warning: {} held the finished runs of an interrupted session; they are removed "
+        "(--resume would have continued it)\n",
+        store.directory_.string());
+  }
   fs::remove_all(store.directory_);
   fs::create_directories(store.directory_);
   nlohmann::ordered_json runs = nlohmann::ordered_json::array();

@@ -24,9 +24,11 @@ namespace pcbench {
 class RunStore {
  public:
   // A new session's journal in folder/checkpoint/: removes the checkpoints of an earlier session
-  // there and writes the manifest. Throws std::runtime_error if it cannot.
+  // there (with a warning to `err`) and writes the manifest. Throws std::runtime_error if it
+  // cannot.
   static RunStore start(const std::filesystem::path& folder, std::uint64_t seed,
-                        const std::string& suite_name, const std::vector<RunPlan>& plans);
+                        const std::string& suite_name, const std::vector<RunPlan>& plans,
+                        std::ostream& err);
 
   // `--resume`: reads folder/checkpoint/, checks that it was made with the same seed and the
   // same planned runs, and reads every saved run. Throws InputError naming the file (nothing is

@@ -303,7 +303,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   if (!store) {
     try {
       store = std::make_shared<RunStore>(
-          RunStore::start(folder, options.seed, options.suite_name, plans));
+          RunStore::start(folder, options.seed, options.suite_name, plans, err));
     } catch (const std::exception& e) {
       err << "pcbench: error: cannot write to " << folder.string() << ": " << e.what() << "\n";
       return kExitRunFailed;

@@ -98,7 +98,7 @@ class RunStoreInFolder : public ::testing::Test {
 
   // A journal in which the first plan finished.
   void save_first(std::uint64_t seed) {
-    RunStore store = RunStore::start(folder_.path(), seed, "test", plans_);
+    RunStore store = RunStore::start(folder_.path(), seed, "test", plans_, err_);
     store.save(plans_[0], execute_run(plans_[0], {.seed = seed}), err_);
   }
   std::string resume_error(std::uint64_t seed, const std::vector<RunPlan>& plans) {
@@ -126,10 +126,17 @@ TEST_F(RunStoreInFolder, RestoresWhatItSavedAndNothingElse) {
 }
 
 TEST_F(RunStoreInFolder, RunsThatDidNotFinishAreNotSaved) {
-  RunStore store = RunStore::start(folder_.path(), 1, "test", plans_);
+  RunStore store = RunStore::start(folder_.path(), 1, "test", plans_, err_);
   RunResult not_run;
   store.save(plans_[0], not_run, err_);
   EXPECT_FALSE(fs::exists(store.file_of(plans_[0].id)));
+}
+
+TEST_F(RunStoreInFolder, ANewSessionRemovesAnEarlierJournalWithAWarning) {
+  save_first(5);
+  RunStore::start(folder_.path(), 5, "test", plans_, err_);
+  EXPECT_NE(err_.str().find("warning"), std::string::npos);
+  EXPECT_EQ(RunStore::resume(folder_.path(), 5, plans_).find(plans_[0].id), nullptr);
 }
 
 TEST_F(RunStoreInFolder, AnotherSeedIsBadInputNamingTheManifest) {
@@ -188,20 +195,18 @@ TEST(CliResume, WithExactOrEstimatesIsBadInput) {
 }
 
 TEST_F(RunStoreInFolder, CliRefusesAnotherSeedAndWritesNothing) {
-  const std::vector<std::string> selection = {
-      "-e", "plain,lvc", "-i",    "genz-gaussian",        "-n", "2000", "-r",
-      "2",  "-q",        "--out", folder_.path().string()};
+  const auto resume_with_seed = [&](const std::string& seed) {
+    return cli({"run", "--resume", "--seed", seed, "-e", "plain,lvc", "-i", "genz-gaussian", "-n",
+                "2000", "-r", "2", "-q", "--out", folder_.path().string()});
+  };
   save_first(5);
   const std::vector<std::string> before = files_under(folder_.path());
-  std::vector<std::string> args = {"run", "--resume", "--seed", "6"};
-  args.insert(args.end(), selection.begin(), selection.end());
-  const CliResult r = cli(args);
+  const CliResult r = resume_with_seed("6");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("session.json"), std::string::npos) << r.err;
   EXPECT_EQ(files_under(folder_.path()), before);
   // The same command with the journal's seed resumes: the first run is restored.
-  args[3] = "5";
-  const CliResult resumed = cli(args);
+  const CliResult resumed = resume_with_seed("5");
   EXPECT_EQ(resumed.status, 0) << resumed.err;
   EXPECT_EQ(files_under(folder_.path()), std::vector<std::string>{"report.json"});
 }

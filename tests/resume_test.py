@@ -6,8 +6,9 @@ Usage (ctest test `cli.resume`):
 
 Runs one `verify` suite three ways: uninterrupted; stopped by Ctrl-C (SIGINT) during its slow
 run and resumed with --resume; killed with SIGKILL during the same run and resumed. The suite
-has ok, invalid and scene runs before the slow run (restored on resume) and after it (run on
-resume), pairwise and tile comparisons, so one Holm family spans restored and new runs. The
+has ok, invalid, scene and escalated runs before the slow run (restored on resume) and runs
+after it (run on resume), pairwise and tile comparisons, so one Holm family spans restored and
+new runs. The
 reports must agree in every field but the timings and the context; the scene images
 byte for byte. Also: bad input around --resume exits 2 and writes nothing. Prints one line per
 check and ends with "N passed, M failed".
@@ -39,6 +40,9 @@ SUITE = {
          "samples": 16, "replicates": 8},
         {"estimator": "pt", "integrand": "furnace", "params": {"resolution": 8},
          "samples": 16, "replicates": 8},
+        # Too few effective samples: escalated (4x, 16x) after the first stage of every run,
+        # from its restored first stage when resumed.
+        {"estimator": "plain", "integrand": "narrow-peak", "samples": 5000},
         # The slow run the signals arrive in (about a second on 2 cores).
         {"estimator": "plain", "integrand": "genz-oscillatory", "samples": 1500000},
         {"estimator": "lvc", "integrand": "genz-gaussian"},
@@ -47,7 +51,7 @@ SUITE = {
     ],
 }
 SLOW = "running plain × genz-oscillatory"
-RESTORED = 5  # the runs before the slow one
+RESTORED = 6  # the runs before the slow one
 
 passed = failed = 0
 
@@ -130,6 +134,8 @@ def main():
         full_status = status
         with open(os.path.join(tmp, "full", "report.json"), encoding="utf-8") as f:
             full = json.load(f)
+        stages = [len(r["escalation"]) for r in full["runs"] if r["integrand"] == "narrow-peak"]
+        check(stages == [2], "uninterrupted: narrow-peak escalated twice", str(stages))
         check(not os.path.exists(os.path.join(tmp, "full", "checkpoint")),
               "a finished session removes its checkpoints")
 
@@ -149,7 +155,7 @@ def main():
                 check(status == 2 and "session.json" in err and "seed 3" in err,
                       "%s: --resume with another seed is bad input naming the file" % name, err)
                 status, err = run(binary, command + out + ["--resume", "-n", "30000"], tmp)
-                check(status == 2 and "planned 9 runs" in err,
+                check(status == 2 and "planned 10 runs" in err,
                       "%s: --resume with another budget is bad input" % name, err)
                 status, err = run(binary, command + ["--resume"], tmp)
                 check(status == 2 and "--out" in err, "--resume without --out is bad input", err)
