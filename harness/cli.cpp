@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <ostream>
 
 #include "harness/calibration.h"
@@ -16,6 +17,7 @@
 #include "harness/external_verify.h"
 #include "harness/list_command.h"
 #include "harness/plan.h"
+#include "harness/plot_command.h"
 #include "harness/replay.h"
 #include "harness/session.h"
 #include "harness/suite_file.h"
@@ -411,6 +413,13 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       "non-finite sample prints)");
   add_replay_options(replay, replay_args, replay_request);
 
+  std::string plot_report;
+  std::optional<std::string> plot_out;
+  CLI::App* plot = app.add_subcommand(
+      "plot", "figures of a report and an HTML page (index.html) with them and its runs");
+  plot->add_option("report", plot_report, "a report.json written by pcbench")->required();
+  plot->add_option("--out,-o", plot_out, "folder for the figures (default: plots/ beside it)");
+
   // CLI11 would say "A subcommand is required" without naming the subcommands.
   std::vector<std::string> commands;
   for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
@@ -446,6 +455,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       return run_calibration(calibration, session_options(calibrate_args, argv, interrupted), out,
                              err);
     }
+    if (plot->parsed()) return run_plot_command(plot_report, plot_out, out, err);
     if (compare->parsed()) {
       prepare_out_dir(compare_args.out_dir, compare->count("--out") > 0);
       return run_compare_command(compare_reports_paths[0], compare_reports_paths[1],

@@ -158,6 +158,9 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
     out.cpu_seconds = thread_cpu_seconds() - cpu_start;
     out.seconds = wall_seconds_since(start);
     out.done = true;
+    if (options.samples_done != nullptr) {
+      options.samples_done->fetch_add(end - first, std::memory_order_relaxed);
+    }
   };
 
   try {

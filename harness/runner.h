@@ -75,6 +75,8 @@ struct RunResult {
 struct RunnerOptions {
   std::uint64_t seed = kDefaultSeed;
   const std::atomic<bool>* interrupted = nullptr;  // polled between chunks
+  // Samples finished so far, summed over replicates (for the progress line); may be null.
+  std::atomic<std::uint64_t>* samples_done = nullptr;
 };
 
 // The chunk (unit of parallel work, a multiple of kBatchSize) for N samples.

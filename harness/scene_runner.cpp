@@ -67,6 +67,7 @@ RunResult execute_scene_run(const RunPlan& plan, const RunnerOptions& options) {
         result.first_nonfinite = NonfiniteLocation{.seed = options.seed, .replicate = r};
       }
       counters.add(rendered.counters);
+      if (options.samples_done != nullptr) options.samples_done->fetch_add(plan.samples);
       result.replicates.push_back(std::move(rep));
       result.images.push_back(std::move(rendered.image));
     }

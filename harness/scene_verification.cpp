@@ -170,6 +170,15 @@ std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
   return out;
 }
 
+namespace {
+
+// A run's image file of one kind (mean, stderr, zmap, reference), relative to the report folder.
+std::string image_file(const std::string& run_id, const char* kind) {
+  return fmt::format("images/{}_{}.exr", run_id, kind);
+}
+
+}  // namespace
+
 void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder) {
   // The best-converged honest images per scene (smallest mean standard error first): a run's
   // reference where there is no exact one is the best of the others.
@@ -196,6 +205,7 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
     std::span<const Image> reference_images;                // what the pixel test compares with
     const PixelStatistics* reference_statistics = nullptr;  // of a reference run
     std::string reference_kind = "none";
+    std::string reference_mean_file;  // a reference run's mean image, already written
     if (scene->exact_radiance()) {
       reference = constant_image(scene->scene(), *scene->exact_radiance());
       reference_images = std::span(&*reference, 1);
@@ -205,15 +215,19 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
       reference = reference_statistics->mean;
       reference_images = b->result.images;
       reference_kind = "run " + b->plan->id;
+      reference_mean_file = image_file(b->plan->id, "mean");
     }
-    const fs::path dir = folder / "images";
-    fs::create_directories(dir);
+    fs::create_directories(folder / "images");
     const std::string stem = r.plan->id;
     nlohmann::ordered_json files;
-    write_exr_rgb(dir / (stem + "_mean.exr"), s.mean);
-    write_exr_rgb(dir / (stem + "_stderr.exr"), s.standard_error);
-    files["mean"] = "images/" + stem + "_mean.exr";
-    files["stderr"] = "images/" + stem + "_stderr.exr";
+    // Writes one image of this run and names it in `files`.
+    const auto write_image = [&](const char* kind, const Image& image) {
+      const std::string name = image_file(stem, kind);
+      write_exr_rgb(folder / name, image);
+      files[kind] = name;
+    };
+    write_image("mean", s.mean);
+    write_image("stderr", s.standard_error);
     nlohmann::ordered_json image = {{"width", s.mean.width}, {"height", s.mean.height}};
     image["rays_per_cpu_second"] = rays_per_cpu_second(r);
     if (reference) {
@@ -224,8 +238,14 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
                              {"pixels_beyond_4_sigma", pixels.pixels_beyond_4_sigma},
                              {"expected_beyond_4_sigma_at_most", pixels.expected_beyond_4_sigma},
                              {"low_count_pixels", pixels.low_count_pixels}};
-      write_exr_rgb(dir / (stem + "_zmap.exr"), z);
-      files["zmap"] = "images/" + stem + "_zmap.exr";
+      write_image("zmap", z);
+      // The image this run was compared with, so that plots show it without recomputing it: the
+      // exact image is written beside the run's own; a reference run's mean is already there.
+      if (!reference_mean_file.empty()) {
+        files["reference"] = reference_mean_file;
+      } else {
+        write_image("reference", *reference);
+      }
       double mean_ref = 0.0;
       for (double v : reference->values) mean_ref += v;
       mean_ref /= static_cast<double>(reference->values.size());

@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "harness/progress.h"
 #include "harness/replay.h"
 #include "harness/report_compare.h"
 #include "harness/statistics.h"
@@ -153,32 +154,49 @@ void test_alone(RunRecord& record) {
   }
 }
 
-// The command that replays a run's first non-finite sample, on stderr as the run ends.
-void print_replay(const RunPlan& plan, const RunResult& result, std::ostream& err) {
+// What a finished run came to, for the progress log (before the family's correction).
+std::string outcome_of(const RunRecord& record) {
+  const RunResult& result = record.result;
+  if (result.status == RunStatus::kOk && record.verdict) {
+    if (!record.verdict->tested) return fmt::format("ok, {}", record.verdict->result);
+    return fmt::format("ok, raw p {:.3g}", record.verdict->p_value);
+  }
+  if (result.error.empty()) return to_string(result.status);
+  return fmt::format("{}: {}", to_string(result.status), result.error);
+}
+
+// The command that replays a run's first non-finite sample, as the run ends: a failure's
+// diagnosis, so written with --quiet too.
+void print_replay(const RunPlan& plan, const RunResult& result, bool quiet,
+                  ProgressReporter& progress, std::ostream& err) {
   if (!result.first_nonfinite) return;
   const std::optional<std::string> command = replay_command(plan, *result.first_nonfinite);
   if (!command) return;
-  err << fmt::format(
+  const std::string text = fmt::format(
       "pcbench: {} × {}: first non-finite sample at seed {}, replicate {}, sample {}; replay it "
-      "with\n  {}\n",
+      "with\n  {}",
       plan.estimator->name, plan.integrand->name, result.first_nonfinite->seed,
       result.first_nonfinite->replicate, result.first_nonfinite->sample, *command);
+  if (quiet) {
+    err << text << "\n";
+  } else {
+    progress.message(text);  // not overdrawn by the progress line
+  }
 }
 
 // Runs one plan, or restores it from the journal of the session being resumed, saves it to the
 // journal, and tests it alone.
 RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, RunStore& store,
-                           bool& interrupted, std::ostream& err) {
+                           bool& interrupted, ProgressReporter& progress, std::ostream& err) {
   RunRecord record;
   record.plan = &plan;
   // A saved run is restored even after Ctrl-C: it costs nothing and the report is fuller.
   if (const SavedRun* saved = store.restore(plan.id)) {
-    if (!options.quiet) {
-      err << fmt::format("restored {} × {} from {}\n", plan.estimator->name, plan.integrand->name,
-                         store.file_of(plan.id).string());
-    }
+    // No work in the progress count: the time left is of the runs still to run.
+    progress.run_started(fmt::format("{} × {}", plan.estimator->name, plan.integrand->name), 0);
     record.result = saved->result;
     test_alone(record);
+    progress.run_finished("restored from " + store.file_of(plan.id).string());
     return record;
   }
   if (options.interrupted != nullptr && options.interrupted->load()) interrupted = true;
@@ -188,15 +206,17 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, R
     record.result.error = "interrupted before the run started";
     return record;
   }
-  if (!options.quiet) {
-    err << fmt::format("running {} × {} ({} samples × {} replicates)\n", plan.estimator->name,
-                       plan.integrand->name, plan.samples, plan.replicates);
-  }
-  record.result = execute_run(plan, {.seed = options.seed, .interrupted = options.interrupted});
+  std::atomic<std::uint64_t>* samples_done =
+      progress.run_started(fmt::format("{} × {}", plan.estimator->name, plan.integrand->name),
+                           plan.samples * plan.replicates);
+  record.result = execute_run(
+      plan,
+      {.seed = options.seed, .interrupted = options.interrupted, .samples_done = samples_done});
   if (record.result.status == RunStatus::kNotRun) interrupted = true;
   store.save(plan, record.result, err);
-  print_replay(plan, record.result, err);
+  print_replay(plan, record.result, options.quiet, progress, err);
   test_alone(record);
+  progress.run_finished(outcome_of(record));
   return record;
 }
 
@@ -204,7 +224,8 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, R
 // CPU seconds per sample; N = seconds / that, in whole batches, at least 1024.
 constexpr std::uint64_t kPilotSamples = 8192;
 
-RunPlan choose_samples(const RunPlan& plan, const SessionOptions& options, std::ostream& err) {
+RunPlan choose_samples(const RunPlan& plan, const SessionOptions& options,
+                       ProgressReporter& progress) {
   RunPlan pilot = with_samples(plan, kPilotSamples);
   pilot.replicates = 2;
   assign_id(pilot);
@@ -219,11 +240,9 @@ RunPlan choose_samples(const RunPlan& plan, const SessionOptions& options, std::
     samples = static_cast<std::uint64_t>(
         std::clamp(batches * kBatchSize, 1024.0, static_cast<double>(kMaxSamples)));
   }
-  if (!options.quiet) {
-    err << fmt::format("pilot {} × {}: {:.3g} µs per sample -> {} samples for {} s\n",
-                       plan.estimator->name, plan.integrand->name, 1e6 * per_sample, samples,
-                       *plan.seconds);
-  }
+  progress.message(fmt::format("pilot {} × {}: {:.3g} µs per sample -> {} samples for {} s",
+                               plan.estimator->name, plan.integrand->name, 1e6 * per_sample,
+                               samples, *plan.seconds));
   RunPlan chosen = with_chosen_samples(plan, samples);
   chosen.pilot_samples = kPilotSamples;
   chosen.pilot_cpu_per_sample = per_sample;
@@ -314,6 +333,12 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   records.reserve(plans.size());
   bool interrupted = false;
   std::deque<RunPlan> chosen_plans;  // stable addresses for the records that point at them
+  std::uint64_t planned_work = 0;
+  for (const RunPlan& plan : plans) {
+    if (store->find(plan.id) == nullptr) planned_work += plan.samples * plan.replicates;
+  }
+  std::optional<ProgressReporter> progress;
+  progress.emplace(progress_mode(err, options.quiet), err, plans.size(), planned_work);
   for (const RunPlan& plan : plans) {
     const RunPlan* to_run = &plan;
     if (plan.seconds) {
@@ -321,11 +346,14 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
         chosen_plans.push_back(restored_choice(plan, *saved));
         to_run = &chosen_plans.back();
       } else if (!interrupted) {
-        chosen_plans.push_back(choose_samples(plan, options, err));
+        chosen_plans.push_back(choose_samples(plan, options, *progress));
         to_run = &chosen_plans.back();
+        // The pilot's choice replaces the planned count in the time left.
+        progress->add_work(to_run->samples * to_run->replicates - plan.samples * plan.replicates,
+                           0);
       }
     }
-    records.push_back(execute_and_test(*to_run, options, *store, interrupted, err));
+    records.push_back(execute_and_test(*to_run, options, *store, interrupted, *progress, err));
   }
 
   // One family: the runs' tests and the pairwise comparisons, Holm at alpha (at alpha / 2 when
@@ -357,7 +385,9 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
                                   .result = record.verdict->result,
                                   .reason = record.verdict->reason};
         later_plans.push_back(with_samples(*record.plan, record.plan->samples * kEscalationFactor));
-        RunRecord next = execute_and_test(later_plans.back(), options, *store, interrupted, err);
+        progress->add_work(later_plans.back().samples * later_plans.back().replicates, 1);
+        RunRecord next =
+            execute_and_test(later_plans.back(), options, *store, interrupted, *progress, err);
         if (next.verdict) {
           std::vector<Verdict*> alone = {&*next.verdict};
           decide_family(alone, stage_alpha);
@@ -368,6 +398,8 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
       }
     }
   }
+
+  progress.reset();  // clears the terminal line before the summary
 
   ReportSections sections;
   std::vector<Comparison> finished;

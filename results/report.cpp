@@ -123,10 +123,15 @@ Json escalation_json(const std::vector<StageRecord>& stages) {
 }
 
 // The effective parameters of the estimator and the integrand, in one object.
-Json params_json(const RunPlan& plan) {
+Json params_json(const ResolvedParams& resolved) {
   Json params = Json::object();
-  for (const auto& [key, value] : plan.estimator_params.values()) params[key] = param_value(value);
-  for (const auto& [key, value] : plan.integrand_params.values()) params[key] = param_value(value);
+  for (const auto& [key, value] : resolved.values()) params[key] = param_value(value);
+  return params;
+}
+
+Json params_json(const RunPlan& plan) {
+  Json params = params_json(plan.estimator_params);
+  params.update(params_json(plan.integrand_params));
   return params;
 }
 
@@ -209,6 +214,8 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
            {"estimator", plan.estimator->name},
            {"integrand", plan.integrand->name},
            {"params", params},
+           // The integrand's share of `params`: what makes runs on the same integrand comparable.
+           {"integrand_params", params_json(plan.integrand_params)},
            {"status", to_string(result.status)},
            {"error", result.error.empty() ? Json(nullptr) : Json(result.error)},
            {"reference", reference_json(result.reference, numbers)},

@@ -8,7 +8,8 @@ packages=(
   libtbb-dev libfmt-dev nlohmann-json3-dev libcli11-dev libmuparser-dev libboost-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libopenexr-dev libimath-dev openexr libtinyobjloader-dev
-  python3 python3-jsonschema
+  python3 python3-jsonschema python3-matplotlib python3-openimageio
+  chromium
 )
 
 missing=()

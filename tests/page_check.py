@@ -1,0 +1,173 @@
+"""Opens a pcbench page (index.html) in headless Chromium and checks it as a reader sees it.
+
+    page_check.py INDEX.html REPORT.json [--screenshot PNG]
+
+Chromium (Debian's /usr/bin/chromium) is driven over the DevTools protocol on a pipe
+(--remote-debugging-pipe: JSON messages ending in NUL on file descriptors 3 and 4), so nothing
+beyond Debian's packages is needed. Fails (exit 1) when the page logs a console error or throws,
+when an image does not decode, or when its table of runs differs from the report: the same run
+ids in the same order, each with the report's status and verdict.
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+CHROMIUM_FLAGS = [
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+    "--remote-debugging-pipe", "about:blank",
+]
+
+
+class DevTools:
+    """A minimal DevTools client: numbered commands, events collected while waiting."""
+
+    def __init__(self, chromium="/usr/bin/chromium"):
+        to_browser_r, self._to_browser = os.pipe()
+        self._from_browser, from_browser_w = os.pipe()
+        self._profile = tempfile.TemporaryDirectory()
+
+        def child_fds():  # the protocol's fixed descriptors: 3 reads commands, 4 writes replies
+            commands, replies = os.dup(to_browser_r), os.dup(from_browser_w)  # neither is 3 or 4
+            os.dup2(commands, 3)                                               # unless free
+            os.dup2(replies, 4)
+
+        # close_fds=False: subprocess would close 3 and 4 after child_fds() made them.
+        self._process = subprocess.Popen(
+            [chromium, f"--user-data-dir={self._profile.name}"] + CHROMIUM_FLAGS,
+            preexec_fn=child_fds, close_fds=False, stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL)
+        os.close(to_browser_r)
+        os.close(from_browser_w)
+        self._buffer = b""
+        self._next_id = 0
+        self.events = []
+
+    def _read_message(self):
+        while b"\0" not in self._buffer:
+            chunk = os.read(self._from_browser, 1 << 16)
+            if not chunk:
+                raise RuntimeError("chromium closed the DevTools pipe")
+            self._buffer += chunk
+        message, self._buffer = self._buffer.split(b"\0", 1)
+        return json.loads(message)
+
+    def send(self, method, session=None, **params):
+        self._next_id += 1
+        message = {"id": self._next_id, "method": method, "params": params}
+        if session:
+            message["sessionId"] = session
+        os.write(self._to_browser, json.dumps(message).encode() + b"\0")
+        while True:
+            reply = self._read_message()
+            if reply.get("id") == self._next_id:
+                if "error" in reply:
+                    raise RuntimeError(f"{method}: {reply['error']}")
+                return reply.get("result", {})
+            self.events.append(reply)
+
+    def wait_for(self, method):
+        for event in self.events:
+            if event.get("method") == method:
+                return event
+        while True:
+            event = self._read_message()
+            self.events.append(event)
+            if event.get("method") == method:
+                return event
+
+    def close(self):
+        try:
+            self.send("Browser.close")
+        except (RuntimeError, OSError):
+            pass
+        try:
+            self._process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self._process.kill()
+        self._profile.cleanup()
+
+
+# Run in the page: what a reader sees of the table and the images.
+READ_PAGE = """JSON.stringify({
+  rows: [...document.querySelectorAll('#runs tbody tr[data-run-id]')].map(tr => ({
+    id: tr.dataset.runId,
+    status: tr.querySelector('td.status').dataset.status,
+    verdict: tr.querySelector('td.verdict').dataset.verdict})),
+  images: [...document.images].map(img => ({ok: img.complete && img.naturalWidth > 0,
+                                             alt: img.alt})),
+  title: document.title})"""
+
+
+def problems_in(events):
+    found = []
+    for e in events:
+        method, params = e.get("method"), e.get("params", {})
+        if method == "Runtime.exceptionThrown":
+            found.append("exception: " + params["exceptionDetails"].get("text", ""))
+        elif method == "Runtime.consoleAPICalled" and params.get("type") in ("error", "assert"):
+            found.append("console error: " + json.dumps(params.get("args"))[:300])
+        elif method == "Log.entryAdded" and params["entry"].get("level") == "error":
+            found.append("log error: " + params["entry"].get("text", ""))
+    return found
+
+
+def check_page(index, report_path, screenshot=None):
+    with open(report_path, encoding="utf-8") as f:
+        report = json.load(f)
+    browser = DevTools()
+    try:
+        target = browser.send("Target.createTarget", url="about:blank")["targetId"]
+        session = browser.send("Target.attachToTarget", targetId=target, flatten=True)["sessionId"]
+        for domain in ("Page", "Runtime", "Log"):
+            browser.send(f"{domain}.enable", session=session)
+        browser.send("Page.navigate", session=session, url="file://" + os.path.abspath(index))
+        browser.wait_for("Page.loadEventFired")
+        seen = json.loads(browser.send("Runtime.evaluate", session=session, expression=READ_PAGE,
+                                       returnByValue=True)["result"]["value"])
+        if screenshot:
+            import base64
+            metrics = browser.send("Page.getLayoutMetrics", session=session)["cssContentSize"]
+            shot = browser.send("Page.captureScreenshot", session=session, format="png",
+                                captureBeyondViewport=True,
+                                clip={"x": 0, "y": 0, "width": min(metrics["width"], 1600),
+                                      "height": min(metrics["height"], 4000), "scale": 1})
+            with open(screenshot, "wb") as f:
+                f.write(base64.b64decode(shot["data"]))
+        failures = problems_in(browser.events)
+    finally:
+        browser.close()
+
+    expected = [{"id": r["id"], "status": r["status"],
+                 "verdict": (r.get("verdict") or {}).get("result") or ""}
+                for r in report.get("runs") or []]
+    if seen["rows"] != expected:
+        failures.append(f"table differs from the report: page {seen['rows'][:3]}... "
+                        f"({len(seen['rows'])} rows), report {expected[:3]}... "
+                        f"({len(expected)} runs)")
+    broken = [img["alt"] for img in seen["images"] if not img["ok"]]
+    if broken:
+        failures.append(f"{len(broken)} images did not decode: {broken[:3]}")
+    return failures, seen
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("index")
+    parser.add_argument("report")
+    parser.add_argument("--screenshot")
+    args = parser.parse_args()
+    failures, seen = check_page(args.index, args.report, args.screenshot)
+    for failure in failures:
+        print("FAILED  " + failure)
+    print(f"{args.index}: {len(seen['rows'])} rows, {len(seen['images'])} images, "
+          f"{len(failures)} problems")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

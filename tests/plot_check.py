@@ -1,0 +1,127 @@
+"""`pcbench plot` on short reports of every kind: each figure is made, and the page renders.
+
+    plot_check.py PCBENCH SOURCE_DIR
+
+Reports: analytic runs with a negative control (series, efficiency, tests), scenes (images with
+exact and run references), a calibration (power curve measured), and the analytic report with
+its optional sections (series, images, comparisons, diagnostics) removed. For each: the figures
+the report calls for exist as PNG files, index.html passes tests/page_check.py in headless
+Chromium (no console error, every image decodes, the table matches the report), and bad input
+exits 2 without writing.
+"""
+
+import copy
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from page_check import check_page  # noqa: E402
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def run(cmd, expect=0):
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    if done.returncode != expect:
+        raise AssertionError(f"{' '.join(cmd)}: exit {done.returncode}, expected {expect}\n"
+                             f"{done.stdout}\n{done.stderr}")
+    return done
+
+
+def is_png(path):
+    with open(path, "rb") as f:
+        return f.read(8) == PNG_SIGNATURE and os.path.getsize(path) > 2000
+
+
+class Checks:
+    def __init__(self):
+        self.failed = 0
+        self.passed = 0
+
+    def __call__(self, description, ok, detail=""):
+        if ok:
+            self.passed += 1
+            print(f"ok      {description}")
+        else:
+            self.failed += 1
+            print(f"FAILED  {description} {detail}")
+
+
+def check_plotted(check, pcbench, report, expected_figures, name):
+    out = os.path.join(os.path.dirname(report), "plots")
+    done = run([pcbench, "plot", report])
+    check(f"{name}: prints where the page is",
+          f"page: {os.path.join(out, 'index.html')}" in done.stdout, done.stdout)
+    made = sorted(f for f in os.listdir(out) if f.endswith(".png"))
+    check(f"{name}: figures {expected_figures}", made == sorted(expected_figures), str(made))
+    check(f"{name}: every figure is a PNG", all(is_png(os.path.join(out, f)) for f in made))
+    failures, seen = check_page(os.path.join(out, "index.html"), report)
+    check(f"{name}: the page renders without errors and its table matches the report "
+          f"({len(seen['rows'])} rows, {len(seen['images'])} images)", not failures,
+          "; ".join(failures))
+    check(f"{name}: every figure is on the page", len(seen["images"]) == len(made))
+
+
+def main():
+    pcbench, source = sys.argv[1], sys.argv[2]
+    check = Checks()
+    with tempfile.TemporaryDirectory() as scratch:
+        analytic = os.path.join(scratch, "analytic")
+        # Exit 0: the control is expected biased and flagged.
+        run([pcbench, "verify", "-e", "plain,pcbpt,ctl-wrong-count", "-i",
+             "form-factor,genz-gaussian", "-n", "8192", "-r", "8", "--out", analytic, "-q"])
+        check_plotted(check, pcbench, os.path.join(analytic, "report.json"),
+                      ["verification.png", "convergence_form-factor.png",
+                       "convergence_genz-gaussian.png"], "analytic")
+
+        scenes = os.path.join(scratch, "scenes")
+        run([pcbench, "run", "-e", "plain,pt", "-i", "furnace,cornell", "-p", "resolution=16",
+             "-n", "4", "-r", "4", "--out", scenes, "-q"])
+        check_plotted(check, pcbench, os.path.join(scenes, "report.json"),
+                      ["verification.png", "scene_furnace.png", "scene_cornell.png"], "scenes")
+        with open(os.path.join(scenes, "report.json")) as f:
+            scene_runs = json.load(f)["runs"]
+        check("scenes: every run names its reference image",
+              all(os.path.isfile(os.path.join(scenes, r["image"]["files"]["reference"]))
+                  for r in scene_runs))
+
+        calibration = os.path.join(scratch, "calibration")
+        run([pcbench, "calibrate", "--seeds", "20", "-n", "500", "--out", calibration, "-q"])
+        check_plotted(check, pcbench, os.path.join(calibration, "report.json"),
+                      ["verification.png", "calibration_qq.png"], "calibration")
+
+        # The same analytic report without any optional section still plots.
+        bare = os.path.join(scratch, "bare")
+        os.makedirs(bare)
+        with open(os.path.join(analytic, "report.json")) as f:
+            report = json.load(f)
+        stripped = copy.deepcopy(report)
+        stripped.pop("comparisons", None)
+        for r in stripped["runs"]:
+            for key in ("series", "image", "diagnostics", "escalation", "counters", "budget"):
+                r.pop(key, None)
+            r["aggregates"] = {k: None for k in r.get("aggregates") or {}}
+        with open(os.path.join(bare, "report.json"), "w") as f:
+            json.dump(stripped, f)
+        check_plotted(check, pcbench, os.path.join(bare, "report.json"), ["verification.png"],
+                      "without optional sections")
+
+        # Bad input: exit 2 and no folder made.
+        not_report = os.path.join(scratch, "not_report.json")
+        with open(not_report, "w") as f:
+            f.write('{"runs": ')
+        for args in ([os.path.join(scratch, "missing.json")], [not_report],
+                     [os.path.join(analytic, "report.json"), "--out", not_report]):
+            done = subprocess.run([pcbench, "plot"] + args, capture_output=True, text=True)
+            check(f"bad input {args[-1]} exits 2 with a message",
+                  done.returncode == 2 and "error" in done.stderr, done.stderr)
+        check("bad input writes nothing", not os.path.exists(os.path.join(scratch, "plots")))
+    print(f"{check.passed} passed, {check.failed} failed")
+    return 1 if check.failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
