@@ -18,6 +18,7 @@
 #include "harness/list_command.h"
 #include "harness/plan.h"
 #include "harness/plot_command.h"
+#include "harness/replay.h"
 #include "harness/session.h"
 #include "harness/suite_file.h"
 #include "results/context.h"
@@ -38,6 +39,7 @@ struct RunArguments {
   std::string out_dir;
   bool quiet = false;
   bool interleave = false;
+  bool resume = false;
   // verify only
   bool verify = false;
   double alpha = kDefaultAlpha;
@@ -173,6 +175,11 @@ SessionOptions session_options(const RunArguments& args, const std::vector<std::
 int run_command(const RunArguments& args, const CLI::App& run_app,
                 const std::vector<std::string>& argv, std::ostream& out, std::ostream& err,
                 const std::atomic<bool>* interrupted) {
+  if (args.resume && (args.exact || !args.external.estimates.empty())) {
+    throw InputError(
+        "command line: --resume continues an interrupted run or verify of a suite or selection; "
+        "it takes no --exact or --estimates (they are not saved as they go)");
+  }
   if (!args.external.estimates.empty()) {
     const bool selection = !args.estimators.empty() || !args.integrands.empty() ||
                            !args.params.empty() || !args.suite_path.empty() || args.exact;
@@ -184,6 +191,11 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     prepare_out_dir(args.out_dir, run_app.count("--out") > 0);
     return run_external_verification(args.external, session_options(args, argv, interrupted), out,
                                      err);
+  }
+  if (args.resume && run_app.count("--out") == 0) {
+    throw InputError(
+        "command line: --resume needs --out DIR: the folder of the interrupted session (its "
+        "report and checkpoint/)");
   }
   if (args.external.reference || args.external.against || args.external.run_id) {
     throw InputError("command line: --reference, --against and --run-id go with --estimates FILE");
@@ -223,6 +235,11 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
   if (run_app.count("--replicates")) budget.forced_replicates = args.replicates;
 
   const std::vector<RunPlan> plans = plan_runs(grids, budget);
+  // Checked before anything is written: a journal of another seed or suite is bad input.
+  if (args.resume) {
+    session.resume =
+        std::make_shared<RunStore>(RunStore::resume(args.out_dir, session.seed, plans));
+  }
   prepare_out_dir(args.out_dir, run_app.count("--out") > 0);
 
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
@@ -275,6 +292,52 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_flag("--interleave", args.interleave,
                 "runs on one integrand take their replicates in turn; prints their efficiency "
                 "ratios with intervals");
+  app->add_flag(
+      "--resume", args.resume,
+      "with --out DIR of an interrupted session: restore its finished runs, run the rest");
+}
+
+// `pcbench replay`: one run's selection and budget, and the sample to evaluate.
+struct ReplayRequest {
+  std::uint32_t replicate = 0;
+  std::uint64_t sample = 0;
+  std::optional<std::string> run_id;
+  bool json = false;
+};
+
+void add_replay_options(CLI::App* app, RunArguments& args, ReplayRequest& request) {
+  app->add_option("--estimator,-e", args.estimators, "the run's estimator")->required();
+  app->add_option("--integrand,-i", args.integrands, "the run's integrand")->required();
+  app->add_option("--param,-p", args.params, "key=value, repeatable: the run's parameters");
+  app->add_option("--samples,-n", args.samples, "the run's camera samples per replicate")
+      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
+  app->add_option("--replicates,-r", args.replicates, "the run's replicates")
+      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
+  app->add_option("--seed,-s", args.seed, "the run's seed (default 1)")
+      ->check(CLI::Range(std::uint64_t{0},
+                         static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
+  app->add_option("--replicate", request.replicate, "the replicate (0-based)")->required();
+  app->add_option("--sample", request.sample, "the camera sample within it (0-based)")->required();
+  app->add_option("--run-id", request.run_id,
+                  "refuse unless the options rebuild this run id (16 hex digits)");
+  app->add_flag("--json", request.json, "print as JSON (non-finite numbers as \"nan\", \"inf\")");
+}
+
+int replay_command_line(const RunArguments& args, const ReplayRequest& request, const CLI::App& app,
+                        std::ostream& out) {
+  GridRequest grid{
+      .estimators = args.estimators, .integrands = args.integrands, .where = "command line"};
+  grid.params = params_from_flags(args, grid);
+  BudgetDefaults budget;
+  if (app.count("--samples")) budget.forced_samples = args.samples;
+  if (app.count("--replicates")) budget.forced_replicates = args.replicates;
+  const std::vector<RunPlan> plans = plan_runs({grid}, budget);
+  if (plans.size() != 1) {
+    throw InputError(
+        fmt::format("command line: replay takes one run; these options plan {}", plans.size()));
+  }
+  return run_replay(plans[0], args.seed, request.replicate, request.sample, request.run_id,
+                    request.json, out);
 }
 
 }  // namespace
@@ -348,6 +411,14 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
                       "output folder (default results/runs/<date-time>/)");
   compare->add_flag("--quiet,-q", compare_args.quiet, "no table");
 
+  RunArguments replay_args;
+  ReplayRequest replay_request;
+  CLI::App* replay = app.add_subcommand(
+      "replay",
+      "re-evaluate one camera sample of a run with its random streams (the command a run with a "
+      "non-finite sample prints)");
+  add_replay_options(replay, replay_args, replay_request);
+
   std::string plot_report;
   std::optional<std::string> plot_out;
   CLI::App* plot = app.add_subcommand(
@@ -396,6 +467,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       return run_compare_command(compare_reports_paths[0], compare_reports_paths[1],
                                  session_options(compare_args, argv, interrupted), out, err);
     }
+    if (replay->parsed()) return replay_command_line(replay_args, replay_request, *replay, out);
     return run_command(run_args, *run, argv, out, err, interrupted);
   } catch (const InputError& e) {
     err << "pcbench: error: " << e.what() << "\n";

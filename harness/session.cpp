@@ -17,6 +17,7 @@
 
 #include "harness/interleaved_runs.h"
 #include "harness/progress.h"
+#include "harness/replay.h"
 #include "harness/report_compare.h"
 #include "harness/statistics.h"
 #include "harness/summary.h"
@@ -168,9 +169,54 @@ RunRecord tested_record(const RunPlan& plan, RunResult result) {
   return record;
 }
 
-// Runs one plan and tests it alone.
-RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, bool& interrupted,
-                           ProgressReporter& progress) {
+// The command that replays a run's first non-finite sample, as the run ends: a failure's
+// diagnosis, so written with --quiet too.
+void print_replay(const RunPlan& plan, const RunResult& result, bool quiet,
+                  ProgressReporter& progress, std::ostream& err) {
+  if (!result.first_nonfinite) return;
+  const std::optional<std::string> command = replay_command(plan, *result.first_nonfinite);
+  if (!command) return;
+  const std::string text = fmt::format(
+      "pcbench: {} × {}: first non-finite sample at seed {}, replicate {}, sample {}; replay it "
+      "with\n  {}",
+      plan.estimator->name, plan.integrand->name, result.first_nonfinite->seed,
+      result.first_nonfinite->replicate, result.first_nonfinite->sample, *command);
+  if (quiet) {
+    err << text << "\n";
+  } else {
+    progress.message(text);  // not overdrawn by the progress line
+  }
+}
+
+// A run restored from the journal of the session being resumed, tested alone; null when the
+// journal does not hold it. Restored even after Ctrl-C: it costs nothing and the report is
+// fuller.
+std::optional<RunRecord> restored_record(const RunPlan& plan, RunStore& store,
+                                         ProgressReporter& progress) {
+  const SavedRun* saved = store.restore(plan.id);
+  if (saved == nullptr) return std::nullopt;
+  // No work in the progress count: the time left is of the runs still to run.
+  progress.run_started(fmt::format("{} × {}", plan.estimator->name, plan.integrand->name), 0);
+  RunRecord record = tested_record(plan, saved->result);
+  progress.run_finished("restored from " + store.file_of(plan.id).string());
+  return record;
+}
+
+// A run that has just finished: saved to the journal (so that --resume can restore it), its
+// replay command printed where it had a non-finite sample, tested alone.
+RunRecord finished_record(const RunPlan& plan, RunResult result, const SessionOptions& options,
+                          RunStore& store, ProgressReporter& progress, std::ostream& err) {
+  store.save(plan, result, err);
+  print_replay(plan, result, options.quiet, progress, err);
+  return tested_record(plan, std::move(result));
+}
+
+// Runs one plan, or restores it from the journal, and tests it alone.
+RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, RunStore& store,
+                           bool& interrupted, ProgressReporter& progress, std::ostream& err) {
+  if (std::optional<RunRecord> restored = restored_record(plan, store, progress)) {
+    return std::move(*restored);
+  }
   if (options.interrupted != nullptr && options.interrupted->load()) interrupted = true;
   if (interrupted) {
     return tested_record(plan, not_run_result(plan, "interrupted before the run started"));
@@ -178,10 +224,11 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, b
   std::atomic<std::uint64_t>* samples_done =
       progress.run_started(fmt::format("{} × {}", plan.estimator->name, plan.integrand->name),
                            plan.samples * plan.replicates);
-  RunRecord record = tested_record(plan, execute_run(plan, {.seed = options.seed,
-                                                            .interrupted = options.interrupted,
-                                                            .samples_done = samples_done}));
-  if (record.result.status == RunStatus::kNotRun) interrupted = true;
+  RunResult result = execute_run(
+      plan,
+      {.seed = options.seed, .interrupted = options.interrupted, .samples_done = samples_done});
+  if (result.status == RunStatus::kNotRun) interrupted = true;
+  RunRecord record = finished_record(plan, std::move(result), options, store, progress, err);
   progress.run_finished(outcome_of(record));
   return record;
 }
@@ -212,6 +259,15 @@ RunPlan choose_samples(const RunPlan& plan, const SessionOptions& options,
   RunPlan chosen = with_chosen_samples(plan, samples);
   chosen.pilot_samples = kPilotSamples;
   chosen.pilot_cpu_per_sample = per_sample;
+  return chosen;
+}
+
+// An equal-time run restored from the journal: the sample count its pilot chose then (a new
+// pilot would measure another machine load, hence another N and other numbers).
+RunPlan restored_choice(const RunPlan& plan, const SavedRun& saved) {
+  RunPlan chosen = with_chosen_samples(plan, saved.samples);
+  chosen.pilot_samples = saved.pilot_samples;
+  chosen.pilot_cpu_per_sample = saved.pilot_cpu_per_sample;
   return chosen;
 }
 
@@ -273,19 +329,38 @@ std::vector<std::pair<Comparison, Verdict>> pairwise_comparisons(
 
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err) {
+  // The folder is chosen first: finished runs are saved there as they finish (harness/run_store.h).
+  const fs::path folder = report_folder(options);
+  std::shared_ptr<RunStore> store = options.resume;
+  if (!store) {
+    try {
+      store = std::make_shared<RunStore>(
+          RunStore::start(folder, options.seed, options.suite_name, plans, err));
+    } catch (const std::exception& e) {
+      err << "pcbench: error: cannot write to " << folder.string() << ": " << e.what() << "\n";
+      return kExitRunFailed;
+    }
+  }
+
   std::vector<RunRecord> records;
   records.reserve(plans.size());
   bool interrupted = false;
   std::deque<RunPlan> chosen_plans;  // stable addresses for the records that point at them
   std::uint64_t planned_work = 0;
-  for (const RunPlan& plan : plans) planned_work += plan.samples * plan.replicates;
+  for (const RunPlan& plan : plans) {
+    if (store->find(plan.id) == nullptr) planned_work += plan.samples * plan.replicates;
+  }
   std::optional<ProgressReporter> progress;
   progress.emplace(progress_mode(err, options.quiet), err, plans.size(), planned_work);
   // Equal-time plans get their sample counts from pilots first.
   std::vector<const RunPlan*> to_run;
   for (const RunPlan& plan : plans) {
     to_run.push_back(&plan);
-    if (plan.seconds && !(options.interrupted != nullptr && options.interrupted->load())) {
+    if (!plan.seconds) continue;
+    if (const SavedRun* saved = store->find(plan.id)) {
+      chosen_plans.push_back(restored_choice(plan, *saved));
+      to_run.back() = &chosen_plans.back();
+    } else if (!(options.interrupted != nullptr && options.interrupted->load())) {
       chosen_plans.push_back(choose_samples(plan, options, *progress));
       to_run.back() = &chosen_plans.back();
       // The pilot's choice replaces the planned count in the time left.
@@ -294,15 +369,26 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     }
   }
   if (options.interleave) {
+    // The journal's runs are restored; the others run interleaved, then are saved.
+    std::vector<const RunPlan*> pending;
+    for (const RunPlan* plan : to_run) {
+      if (store->find(plan->id) == nullptr) pending.push_back(plan);
+    }
     std::vector<RunResult> results = execute_interleaved(
-        to_run, {.seed = options.seed, .interrupted = options.interrupted}, *progress);
-    for (std::size_t i = 0; i < to_run.size(); ++i) {
-      records.push_back(tested_record(*to_run[i], std::move(results[i])));
+        pending, {.seed = options.seed, .interrupted = options.interrupted}, *progress);
+    std::size_t next = 0;
+    for (const RunPlan* plan : to_run) {
+      if (std::optional<RunRecord> restored = restored_record(*plan, *store, *progress)) {
+        records.push_back(std::move(*restored));
+        continue;
+      }
+      records.push_back(
+          finished_record(*plan, std::move(results[next++]), options, *store, *progress, err));
       if (records.back().result.status == RunStatus::kNotRun) interrupted = true;
     }
   } else {
     for (const RunPlan* plan : to_run) {
-      records.push_back(execute_and_test(*plan, options, interrupted, *progress));
+      records.push_back(execute_and_test(*plan, options, *store, interrupted, *progress, err));
     }
   }
 
@@ -336,7 +422,8 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
                                   .reason = record.verdict->reason};
         later_plans.push_back(with_samples(*record.plan, record.plan->samples * kEscalationFactor));
         progress->add_work(later_plans.back().samples * later_plans.back().replicates, 1);
-        RunRecord next = execute_and_test(later_plans.back(), options, interrupted, *progress);
+        RunRecord next =
+            execute_and_test(later_plans.back(), options, *store, interrupted, *progress, err);
         if (next.verdict) {
           std::vector<Verdict*> alone = {&*next.verdict};
           decide_family(alone, stage_alpha);
@@ -362,14 +449,15 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   }
   sections.comparisons = comparisons_json(finished);
   sections.efficiency_ratios = efficiency_ratios_json(records, options.interleave);
-  const fs::path folder = report_folder(options);
   std::optional<fs::path> report_path;
   try {
     write_scene_images(records, folder);
-    report_path =
-        publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
-                                   options.suite_name, records, sections),
-                       options, folder, err);
+    Context context = gather_context(options.argv, options.seed, options.threads);
+    if (options.resume) {
+      context.restored_runs = store->restored();
+    }
+    report_path = publish_report(report_json(context, options.suite_name, records, sections),
+                                 options, folder, err);
   } catch (const std::exception& e) {
     err << "pcbench: error: cannot write the images of " << folder.string() << ": " << e.what()
         << "\n";
@@ -385,6 +473,14 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   }
   if (!report_path) return kExitRunFailed;
   out << "report: " << report_path->string() << "\n";
+  if (interrupted) {
+    err << fmt::format(
+        "pcbench: interrupted; the finished runs are saved in {}: the same command with --out {} "
+        "--resume runs the rest\n",
+        store->directory().string(), folder.string());
+  } else {
+    store->discard(err);  // the report holds every run now
+  }
 
   bool differs = false;
   bool failed = false;

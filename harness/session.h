@@ -6,11 +6,13 @@
 #include <cstdint>
 #include <filesystem>
 #include <iosfwd>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "harness/plan.h"
+#include "harness/run_store.h"
 #include "harness/statistics.h"
 
 namespace pcbench {
@@ -48,6 +50,9 @@ struct SessionOptions {
   bool interleave = false;
   std::vector<std::string> argv;
   const std::atomic<bool>* interrupted = nullptr;
+  // `--resume`: the interrupted session's journal, already checked against the plans. Its done
+  // runs are restored instead of run; without it a session starts a new journal in its folder.
+  std::shared_ptr<RunStore> resume;
 };
 
 // Writes `report` atomically as report.json in the run folder (options.out_dir, or a new

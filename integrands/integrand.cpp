@@ -28,4 +28,8 @@ void PathWorkspace::add_cache_points(std::uint32_t) {
   throw std::runtime_error("this integrand has no cache points (importance=cached)");
 }
 
+std::vector<double> PathWorkspace::coordinates(PathSide, std::uint32_t) const {
+  return {};
+}
+
 }  // namespace pcbench

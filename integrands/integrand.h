@@ -12,6 +12,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "harness/rng.h"
 
@@ -74,6 +75,10 @@ class PathWorkspace {
   // path of a cell is guided by what its cache point sees. The appended paths are for
   // importance only; their pdfs mean nothing. Default: throws std::runtime_error (no cells).
   virtual void add_cache_points(std::uint32_t cells);
+
+  // The coordinates of sampled path `index` of `side`, for `pcbench replay` to print (a
+  // debugging aid, never used by an estimate). Default: none known.
+  virtual std::vector<double> coordinates(PathSide side, std::uint32_t index) const;
 };
 
 class Integrand {

@@ -93,6 +93,13 @@ class PointWorkspace final : public PathWorkspace {
     }
   }
 
+  std::vector<double> coordinates(PathSide which, std::uint32_t path) const override {
+    const std::size_t dims = dims_[index(which)];
+    const auto first =
+        sides_[index(which)].coords.begin() + static_cast<std::ptrdiff_t>(path * dims);
+    return std::vector<double>(first, first + static_cast<std::ptrdiff_t>(dims));
+  }
+
   void importance(std::span<const PathPair> pairs, std::span<double> values) override {
     if constexpr (requires(const double* p) { model_.approximate_importance(p, p); }) {
       const double* light = sides_[0].coords.data();

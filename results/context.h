@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,9 @@ struct Context {
   std::uint64_t seed = 0;
   unsigned threads = 0;
   std::string version;
+  // --resume: how many of the report's runs were restored from the interrupted session's
+  // checkpoints (their timings are that session's).
+  std::optional<std::uint64_t> restored_runs = {};
 };
 
 Context gather_context(std::vector<std::string> argv, std::uint64_t seed, unsigned threads);

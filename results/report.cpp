@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "harness/replay.h"
+
 namespace pcbench {
 namespace {
 
@@ -41,19 +43,21 @@ Json context_json(const Context& c) {
   Json dirty = nullptr;
   if (c.git_dirty == "true") dirty = true;
   if (c.git_dirty == "false") dirty = false;
-  return Json{{"date", c.date},
-              {"host", c.host},
-              {"cpu", c.cpu},
-              {"cores", c.cores},
-              {"compiler", c.compiler},
-              {"flags", c.flags},
-              {"build_type", c.build_type},
-              {"git_commit", c.git_commit},
-              {"git_dirty", dirty},
-              {"argv", c.argv},
-              {"seed", c.seed},
-              {"threads", c.threads},
-              {"pcbench_version", c.version}};
+  Json context{{"date", c.date},
+               {"host", c.host},
+               {"cpu", c.cpu},
+               {"cores", c.cores},
+               {"compiler", c.compiler},
+               {"flags", c.flags},
+               {"build_type", c.build_type},
+               {"git_commit", c.git_commit},
+               {"git_dirty", dirty},
+               {"argv", c.argv},
+               {"seed", c.seed},
+               {"threads", c.threads},
+               {"pcbench_version", c.version}};
+  if (c.restored_runs) context["resumed"] = Json{{"restored_runs", *c.restored_runs}};
+  return context;
 }
 
 // The reference's dof is infinite for exact references by definition: written as null, not
@@ -200,6 +204,9 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
     first_nonfinite = Json{{"seed", seed},
                            {"replicate", result.first_nonfinite->replicate},
                            {"sample", result.first_nonfinite->sample}};
+    if (const auto command = replay_command(plan, *result.first_nonfinite)) {
+      first_nonfinite["replay"] = *command;
+    }
   }
 
   const Counters& c = result.counters;

@@ -399,13 +399,19 @@ def main():
               and all(p in listed for p in expected),
               "b-nonfinite: every replicate estimate/variance is null and named",
               json.dumps(listed))
+        replay = run["first_nonfinite"].get("replay", "")
+        check(replay.startswith("pcbench replay -e plain -i expr ")
+              and replay.endswith("--replicate 0 --sample 0 --run-id " + run["id"]),
+              "b-nonfinite: first_nonfinite.replay replays sample 0 of replicate 0 of the run",
+              replay)
         check(run["aggregates"]["mean"] is None and "aggregates/mean" in listed
               and run["aggregates"]["stderr"] is None and "aggregates/stderr" in listed,
               "b-nonfinite: aggregates mean/stderr null and named")
         check(run["reference"]["kind"] == "none" and not any(p in listed for p in
               ("aggregates/bias", "aggregates/rmse", "aggregates/rel_mse")),
               "b-nonfinite: bias/rmse/rel_mse (undefined without a reference) are not named")
-        check(run["first_nonfinite"] == {"seed": 1, "replicate": 0, "sample": 0},
+        check({k: run["first_nonfinite"][k] for k in ("seed", "replicate", "sample")}
+              == {"seed": 1, "replicate": 0, "sample": 0},
               "b-nonfinite: first_nonfinite is seed 1, replicate 0, sample 0",
               json.dumps(run["first_nonfinite"]))
         check(all(rep["nonfinite"] == rep["n"] == 1000 and rep["largest_abs"] == []
@@ -545,6 +551,8 @@ def main():
              assign(["runs", 0, "verdict", "result"], "consistent"))
     rejected(b, "an invalid run without first_nonfinite",
              assign(["runs", 0, "first_nonfinite"], None))
+    rejected(b, "first_nonfinite.replay that is not a pcbench replay command",
+             assign(["runs", 0, "first_nonfinite", "replay"], "rm -rf /"))
 
     # A well-formed comparison and image are accepted (they are not produced yet).
     if a:
