@@ -1,6 +1,7 @@
 #include "estimators/resampling_step.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace pcbench {
@@ -10,6 +11,12 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 bool all_finite(std::span<const double> values) {
   return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
+}
+
+// w > 0 read from the bits: under denormals-are-zero a subnormal w compares equal to 0 although
+// the integrand meant a positive importance.
+bool positive(double w) {
+  return !std::signbit(w) && std::bit_cast<std::uint64_t>(w) != 0;
 }
 
 }  // namespace
@@ -36,24 +43,41 @@ void ResamplingStep::build_pmf(const PoolView& pool, std::vector<double>& pmf) c
     return;
   }
   const double threshold = keep_threshold(w);
-  double total = 0.0;
+  // The importances are scaled by the largest kept one before they are summed: Σ w overflows to
+  // inf for weights near DBL_MAX (and then every w / Σ w is 0 and P sums to u, not 1), while the
+  // scaled sum lies in [1, M] for any finite weights. Under denormals-are-zero a subnormal largest
+  // compares as 0: the pool then counts as all-zero.
+  double largest = 0.0;
   std::uint32_t kept = 0;
   for (double wj : w) {
     if (wj < threshold) continue;
-    total += wj;
+    largest = std::max(largest, wj);
     ++kept;
+  }
+  double total = 0.0;
+  if (largest > 0.0) {
+    for (double wj : w) {
+      if (wj >= threshold) total += wj / largest;
+    }
   }
   // P = (1 - u) w / Σ w + u / M; all-zero importances leave P uniform. The negative control
   // kRenormaliseKept spreads the uniform share over the kept candidates only.
-  // w_j / Σ w is at most 1 even where Σ w is subnormal; (1 - u) / Σ w would overflow there and
-  // turn a zero importance into 0 × inf = NaN.
   const double u = total > 0.0 ? config_.uniform_mix : 1.0;
   const bool kept_only = config_.flaw == Flaw::kRenormaliseKept;
   const double uniform_share = u / (kept_only ? kept : m);
   for (std::uint32_t j = 0; j < m; ++j) {
     const bool keep = w[j] >= threshold;
-    const double share = keep && total > 0.0 ? (1.0 - u) * (w[j] / total) : 0.0;
+    const double share = keep && total > 0.0 ? (1.0 - u) * ((w[j] / largest) / total) : 0.0;
     pmf[j] = share + (keep || !kept_only ? uniform_share : 0.0);
+    // Without uniform mixing a share can underflow although w_j > 0: a pool whose weights span
+    // more than DBL_MAX / DBL_MIN, a share below DBL_MIN flushed to zero (FTZ, as Embree asks),
+    // or a subnormal w_j read as 0 (DAZ). P_j = 0 where f may be != 0 would break the proof's
+    // support condition, and a subnormal P_j would give the draw the weight 1 / (M K P_j) = inf.
+    // The smallest normal number keeps P > 0 wherever w > 0 and every weight finite; the draw
+    // stays as rare as the 2^-53 resolution of a uniform lets it be.
+    if (keep && pmf[j] < std::numeric_limits<double>::min() && positive(w[j])) {
+      pmf[j] = std::numeric_limits<double>::min();
+    }
   }
 }
 

@@ -55,9 +55,13 @@ Row row_of(const RunRecord& record) {
       has_stats ? fmt::format("{} ± {}", number(a.mean), number(a.stderr_of_mean)) : "-";
   const std::string reference =
       result.reference.kind == ReferenceKind::kNone ? "-" : number(result.reference.value);
-  const std::string bias_in_se = has_stats && std::isfinite(a.bias) && a.stderr_of_mean > 0.0
-                                     ? fmt::format("{:+.2f}", a.bias / a.stderr_of_mean)
-                                     : "-";
+  // Fixed point up to 1e4 standard errors; beyond (a run that almost never hit its integrand has
+  // a standard error near 0), three digits and an exponent keep the column narrow.
+  const double z = a.bias / a.stderr_of_mean;
+  const std::string bias_in_se =
+      has_stats && std::isfinite(a.bias) && a.stderr_of_mean > 0.0
+          ? (std::fabs(z) < 1e4 ? fmt::format("{:+.2f}", z) : fmt::format("{:+.2e}", z))
+          : "-";
   // The smallest bias this row could see (80% power), as a share of ∫∫ |f|.
   const std::string detectable =
       record.verdict && std::isfinite(record.verdict->min_detectable_bias_vs_mean_abs)

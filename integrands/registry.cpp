@@ -23,6 +23,7 @@
 #include "integrands/scenes/scene_integrand.h"
 #include "integrands/singular.h"
 #include "integrands/sparse_support.h"
+#include "integrands/wide_range.h"
 
 namespace pcbench {
 namespace {
@@ -84,6 +85,11 @@ const std::vector<IntegrandEntry>& integrand_registry() {
                                     {"stress", "non-negative"}),
         point_entry<SingularInfinite>("singular-infinite", "|x0 - y0|^-α, α >= 1/2", true,
                                       {"stress", "infinite-variance", "non-negative"}),
+        point_entry<WideRange>(
+            "wide-range",
+            "log-uniform light density × exponential camera density × (1 + a b): "
+            "|f| over 10^-D .. 2·10^D, f/p in [1, 2]",
+            true, {"stress", "nonuniform-density", "non-negative"}),
         point_entry<ExpressionModel>(
             "expr", "muparser expression f(x0.., y0..) on the unit cube; reference from 'exact'",
             false),

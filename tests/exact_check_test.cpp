@@ -131,31 +131,3 @@ TEST(ExactCheck, PassesEveryHonestConfiguration) {
 
 }  // namespace
 }  // namespace pcbench
-
-namespace pcbench {
-namespace {
-
-// Importances whose sum is subnormal still give a proper P (no 0 × inf = NaN, no P = 0 where
-// w > 0), as do importances spanning 1e-300 .. 1e300.
-TEST(ResamplingStepPmf, SubnormalAndHugeImportancesGiveAProperPmf) {
-  const ResamplingStep step({.M = 4,
-                             .K = 2,
-                             .selection = Selection::kImportance,
-                             .scheme = DrawScheme::kIndependent,
-                             .uniform_mix = 0.0});
-  for (const std::vector<double>& w : {std::vector<double>{0.0, 1e-310, 0.0, 2e-310},
-                                       std::vector<double>{1e-300, 1e300, 0.0, 1.0}}) {
-    std::vector<double> pmf;
-    step.build_pmf({.importance = w}, pmf);
-    double total = 0.0;
-    for (std::size_t j = 0; j < w.size(); ++j) {
-      EXPECT_TRUE(std::isfinite(pmf[j]));
-      EXPECT_EQ(pmf[j] > 0.0, w[j] > 0.0 && w[j] / (w[0] + w[1] + w[2] + w[3]) > 0.0) << j;
-      total += pmf[j];
-    }
-    EXPECT_NEAR(total, 1.0, 1e-15);
-  }
-}
-
-}  // namespace
-}  // namespace pcbench
