@@ -32,8 +32,9 @@ class DevTools:
         self._profile = tempfile.TemporaryDirectory()
 
         def child_fds():  # the protocol's fixed descriptors: 3 reads commands, 4 writes replies
-            commands, replies = os.dup(to_browser_r), os.dup(from_browser_w)  # neither is 3 or 4
-            os.dup2(commands, 3)                                               # unless free
+            # Copies first: dup2 onto 3 could otherwise close the other pipe end if it is 3.
+            commands, replies = os.dup(to_browser_r), os.dup(from_browser_w)
+            os.dup2(commands, 3)
             os.dup2(replies, 4)
 
         # close_fds=False: subprocess would close 3 and 4 after child_fds() made them.
@@ -116,7 +117,7 @@ def problems_in(events):
     return found
 
 
-def check_page(index, report_path, screenshot=None):
+def check_page(index, report_path, screenshot=None, section=None):
     with open(report_path, encoding="utf-8") as f:
         report = json.load(f)
     browser = DevTools()
@@ -132,10 +133,16 @@ def check_page(index, report_path, screenshot=None):
         if screenshot:
             import base64
             metrics = browser.send("Page.getLayoutMetrics", session=session)["cssContentSize"]
+            top = 0
+            if section:  # start at a heading of the page (its id) rather than at the top
+                top = browser.send(
+                    "Runtime.evaluate", session=session, returnByValue=True,
+                    expression=f"document.getElementById({json.dumps(section)})"
+                               ".getBoundingClientRect().top + window.scrollY")["result"]["value"]
             shot = browser.send("Page.captureScreenshot", session=session, format="png",
                                 captureBeyondViewport=True,
-                                clip={"x": 0, "y": 0, "width": min(metrics["width"], 1600),
-                                      "height": min(metrics["height"], 4000), "scale": 1})
+                                clip={"x": 0, "y": top, "width": metrics["width"],
+                                      "height": min(metrics["height"] - top, 4000), "scale": 1})
             with open(screenshot, "wb") as f:
                 f.write(base64.b64decode(shot["data"]))
         failures = problems_in(browser.events)
@@ -159,9 +166,10 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("index")
     parser.add_argument("report")
-    parser.add_argument("--screenshot")
+    parser.add_argument("--screenshot", help="write a PNG of the page (at most 4000 px tall)")
+    parser.add_argument("--section", help="with --screenshot: start at the heading with this id")
     args = parser.parse_args()
-    failures, seen = check_page(args.index, args.report, args.screenshot)
+    failures, seen = check_page(args.index, args.report, args.screenshot, args.section)
     for failure in failures:
         print("FAILED  " + failure)
     print(f"{args.index}: {len(seen['rows'])} rows, {len(seen['images'])} images, "
