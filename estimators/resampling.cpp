@@ -167,6 +167,43 @@ PoolView ResamplingEstimator::pool_view(const PreparedPools& pools, const Estima
   return view;
 }
 
+// Plain and vertex connection, the hot path of the cheapest runs: every candidate pair of
+// prepare() is a connection with the same coefficient, so there is nothing to choose, and the
+// sums are those of the general path below term by term (the same operations: the same bits).
+void ResamplingEstimator::estimate_every_path(const BatchContext& ctx, PathWorkspace& paths,
+                                              EstimatorScratch& scratch,
+                                              const PreparedPools& pools,
+                                              std::span<double> estimates) const {
+  const std::uint32_t m = pools.M;
+  const std::span<const PathPair> pairs = scratch.candidate_pairs;
+  if (scratch.candidate_values.empty()) {
+    scratch.values.resize(pairs.size());
+    paths.connect(pairs, scratch.values);
+  }
+  const std::span<const double> values =
+      scratch.candidate_values.empty() ? std::span<const double>(scratch.values)
+                                       : std::span<const double>(scratch.candidate_values);
+  const std::span<const double> p_x = paths.pdfs(PathSide::kLight);
+  const std::span<const double> p_y = paths.pdfs(PathSide::kCamera);
+  const double coefficient = step_.every_path_coefficient();
+  const bool with_magnitudes = !ctx.magnitudes.empty();
+  for (std::uint32_t i = 0; i < pools.samples; ++i) {
+    double sum = 0.0;
+    double magnitude = 0.0;
+    for (std::size_t d = static_cast<std::size_t>(i) * m; d < static_cast<std::size_t>(i + 1) * m;
+         ++d) {
+      const double f = values[d];
+      if (f == 0.0) continue;
+      const double weight = coefficient / (p_x[pairs[d].light] * p_y[i]);
+      sum += f * weight;
+      magnitude += std::fabs(f) * weight;
+    }
+    estimates[i] = sum;
+    if (with_magnitudes) ctx.magnitudes[i] = magnitude;
+  }
+  ctx.counters->connections += pairs.size();
+}
+
 void ResamplingEstimator::estimate_part(const BatchContext& ctx, PathWorkspace& paths,
                                         EstimatorScratch& scratch,
                                         std::span<double> estimates) const {
@@ -176,6 +213,11 @@ void ResamplingEstimator::estimate_part(const BatchContext& ctx, PathWorkspace& 
   if (config_.step.selection == Selection::kImportance &&
       config_.importance != ImportanceSource::kUniform) {
     ctx.counters->importance_evaluations += static_cast<std::uint64_t>(n) * m;
+  }
+
+  if (step_.connects_every_path_once() && ctx.log == nullptr) {
+    estimate_every_path(ctx, paths, scratch, pools, estimates);
+    return;
   }
 
   // Choose and weigh the connections of every camera sample, then evaluate them in one call.

@@ -139,13 +139,12 @@ void ResamplingStep::weigh(const PoolView& pool, std::span<const double> pmf,
 void ResamplingStep::choose(const PoolView& pool, const StreamId& stream, std::vector<double>& pmf,
                             DiscreteSampler& sampler, std::vector<std::uint32_t>& draws,
                             std::vector<Term>& terms) const {
-  if (config_.scheme == DrawScheme::kEvery && config_.flaw == Flaw::kNone &&
-      config_.selection != Selection::kImportance) {
+  if (connects_every_path_once()) {
     // Vertex connection (and plain): every path once, P = 1/M, no random numbers; the same
-    // coefficients weigh() computes, without its generality (this is the hot path of plain).
+    // coefficients weigh() computes, without its generality.
     const std::uint32_t m = config_.M;
     const double p = 1.0 / m;
-    const double coefficient = 1.0 / (static_cast<double>(m) * static_cast<double>(m)) / p;
+    const double coefficient = every_path_coefficient();
     pmf.assign(m, p);
     draws.resize(m);
     for (std::uint32_t j = 0; j < m; ++j) {

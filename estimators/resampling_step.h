@@ -75,6 +75,17 @@ class ResamplingStep {
 
   const StepConfig& config() const { return config_; }
   bool needs_contributions() const { return config_.flaw == Flaw::kBestDraw; }
+  // Vertex connection and plain: every path of the pool once with P = 1/M, no random numbers.
+  bool connects_every_path_once() const {
+    return config_.scheme == DrawScheme::kEvery && config_.flaw == Flaw::kNone &&
+           config_.selection != Selection::kImportance;
+  }
+  // The coefficient of every term when connects_every_path_once(): 1/(M² P) with P = 1/M,
+  // computed as choose() computes it, so both paths give the same bits.
+  double every_path_coefficient() const {
+    const double p = 1.0 / config_.M;
+    return 1.0 / (static_cast<double>(config_.M) * static_cast<double>(config_.M)) / p;
+  }
   bool needs_foreign_pool() const { return config_.flaw == Flaw::kForeignNormaliser; }
 
   // P(j | y, X) for j < M, into `pmf`. An importance that is not finite leaves no valid P: every
