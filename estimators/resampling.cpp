@@ -171,8 +171,7 @@ PoolView ResamplingEstimator::pool_view(const PreparedPools& pools, const Estima
 // prepare() is a connection with the same coefficient, so there is nothing to choose, and the
 // sums are those of the general path below term by term (the same operations: the same bits).
 void ResamplingEstimator::estimate_every_path(const BatchContext& ctx, PathWorkspace& paths,
-                                              EstimatorScratch& scratch,
-                                              const PreparedPools& pools,
+                                              EstimatorScratch& scratch, const PreparedPools& pools,
                                               std::span<double> estimates) const {
   const std::uint32_t m = pools.M;
   const std::span<const PathPair> pairs = scratch.candidate_pairs;
@@ -180,9 +179,9 @@ void ResamplingEstimator::estimate_every_path(const BatchContext& ctx, PathWorks
     scratch.values.resize(pairs.size());
     paths.connect(pairs, scratch.values);
   }
-  const std::span<const double> values =
-      scratch.candidate_values.empty() ? std::span<const double>(scratch.values)
-                                       : std::span<const double>(scratch.candidate_values);
+  const std::span<const double> values = scratch.candidate_values.empty()
+                                             ? std::span<const double>(scratch.values)
+                                             : std::span<const double>(scratch.candidate_values);
   const std::span<const double> p_x = paths.pdfs(PathSide::kLight);
   const std::span<const double> p_y = paths.pdfs(PathSide::kCamera);
   const double coefficient = step_.every_path_coefficient();

@@ -87,9 +87,8 @@ class ResamplingEstimator final : public Estimator {
   // estimate_batch for a part of a batch with at most kMaxCandidates candidate pairs.
   void estimate_part(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& scratch,
                      std::span<double> estimates) const;
-  void estimate_every_path(const BatchContext& ctx, PathWorkspace& paths,
-                           EstimatorScratch& scratch, const PreparedPools& pools,
-                           std::span<double> estimates) const;
+  void estimate_every_path(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& scratch,
+                           const PreparedPools& pools, std::span<double> estimates) const;
   void evaluate_importance(const PreparedPools& pools, PathWorkspace& paths,
                            EstimatorScratch& scratch) const;
 
