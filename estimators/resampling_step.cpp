@@ -9,10 +9,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-bool all_finite(std::span<const double> values) {
-  return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
-}
-
 // w > 0 read from the bits: under denormals-are-zero a subnormal w compares equal to 0 although
 // the integrand meant a positive importance.
 bool positive(double w) {
@@ -38,26 +34,34 @@ void ResamplingStep::build_pmf(const PoolView& pool, std::vector<double>& pmf) c
     return;
   }
   const std::span<const double> w = pool.importance;
-  if (!all_finite(w)) {
-    std::fill(pmf.begin(), pmf.end(), kNaN);
-    return;
-  }
   const double threshold = keep_threshold(w);
   // The importances are scaled by the largest kept one before they are summed: Σ w overflows to
   // inf for weights near DBL_MAX (and then every w / Σ w is 0 and P sums to u, not 1), while the
   // scaled sum lies in [1, M] for any finite weights. Under denormals-are-zero a subnormal largest
-  // compares as 0: the pool then counts as all-zero.
+  // compares as 0: the pool then counts as all-zero. One pass finds the largest, counts the kept
+  // and checks that every weight is finite (this step runs once per camera sample).
+  bool finite = true;
   double largest = 0.0;
   std::uint32_t kept = 0;
   for (double wj : w) {
+    finite &= std::isfinite(wj);
     if (wj < threshold) continue;
     largest = std::max(largest, wj);
     ++kept;
   }
+  if (!finite) {
+    std::fill(pmf.begin(), pmf.end(), kNaN);
+    return;
+  }
+  // Multiplying by 1 / largest instead of dividing by it, where that reciprocal is finite (a
+  // subnormal largest has none): divisions were most of this step's cost at small M.
+  const double inverse = largest > 0.0 ? 1.0 / largest : 0.0;
+  const bool by_inverse = std::isfinite(inverse);
+  const auto scaled = [&](double wj) { return by_inverse ? wj * inverse : wj / largest; };
   double total = 0.0;
   if (largest > 0.0) {
     for (double wj : w) {
-      if (wj >= threshold) total += wj / largest;
+      if (wj >= threshold) total += scaled(wj);
     }
   }
   // P = (1 - u) w / Σ w + u / M; all-zero importances leave P uniform. The negative control
@@ -65,9 +69,10 @@ void ResamplingStep::build_pmf(const PoolView& pool, std::vector<double>& pmf) c
   const double u = total > 0.0 ? config_.uniform_mix : 1.0;
   const bool kept_only = config_.flaw == Flaw::kRenormaliseKept;
   const double uniform_share = u / (kept_only ? kept : m);
+  const double share_factor = total > 0.0 ? (1.0 - u) / total : 0.0;  // in [(1-u)/M, 1-u]
   for (std::uint32_t j = 0; j < m; ++j) {
     const bool keep = w[j] >= threshold;
-    const double share = keep && total > 0.0 ? (1.0 - u) * ((w[j] / largest) / total) : 0.0;
+    const double share = keep ? scaled(w[j]) * share_factor : 0.0;
     pmf[j] = share + (keep || !kept_only ? uniform_share : 0.0);
     // Without uniform mixing a share can underflow although w_j > 0: a pool whose weights span
     // more than DBL_MAX / DBL_MIN, a share below DBL_MIN flushed to zero (FTZ, as Embree asks),
