@@ -94,8 +94,27 @@ TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
              "materials": {"white": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
              "shapes": [{"type": "quad", "material": "white",
                          "corners": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]}]})";
+  std::ofstream("truncated.json") << R"({"runs": [{"estimator": "plain", "integ)";
+  // JSON has no NaN: a coordinate beyond the double range is the nearest a file gets to one.
+  const char* scene_head = R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]},
+    "materials": {"white": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
+    "shapes": [{"type": "triangle", "material": "white", "emission": [1, 1, 1], "corners": )";
+  std::ofstream("overflow.scene.json") << scene_head << "[[0, 0, 0], [1, 0, 0], [1, 1e999, 0]]}]}";
+  std::ofstream("flat.scene.json") << scene_head << "[[0, 0, 0], [1, 0, 0], [2, 0, 0]]}]}";
   const std::vector<BadInput> cases = {
       {{"run", "duplicate.json"}, "key 'sharpness' appears twice"},
+      {{"run", "truncated.json"}, "truncated.json:1:"},
+      {{"run", "-e", "vc-all", "-i", "genz-gaussian", "-p", "M=0"}, "'M' = '0': out of range"},
+      {{"run", "-e", "lvc", "-i", "genz-gaussian", "-p", "K=0"}, "'K' = '0': out of range"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "-n", "-5"}, "--samples"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "-p", "light_dims=40"}, "[1, 32]"},
+      {{"verify", "-e", "plain", "-i", "genz-gaussian", "--alpha", "0"}, "alpha must be in (0, 1)"},
+      {{"verify", "-e", "plain", "-i", "genz-gaussian", "--alpha", "1"}, "alpha must be in (0, 1)"},
+      {{"run", "-e", "plain", "-i", "expr", "-p", "f=x0*y0 + x1"}, "variables: x0, y0"},
+      {{"run", "-e", "plian", "-i", "genz-gaussian"}, "did you mean 'plain'?"},
+      {{"run", "-e", "plain", "-i", "overflow.scene.json"},
+       "overflow.scene.json:3:119: [json.exception.out_of_range.406] number overflow"},
+      {{"run", "-e", "plain", "-i", "flat.scene.json"}, "triangle 0 is degenerate"},
       // Scenes.
       {{"run", "-e", "ctl-cull-small", "-i", "cornell"}, "does not render scenes"},
       {{"run", "-e", "pt", "-i", "genz-gaussian"}, "works on scenes only"},
