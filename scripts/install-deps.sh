@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libopenexr-dev libimath-dev openexr libtinyobjloader-dev
   python3 python3-jsonschema
+  clang libclang-rt-14-dev
 )
 
 missing=()
