@@ -31,6 +31,24 @@ inline std::string line_and_column(std::string_view text, std::size_t byte) {
   return std::to_string(line) + ":" + std::to_string(column);
 }
 
+// The message for a number nlohmann-json cannot hold as a double ("1e999", its out_of_range
+// error 406), as "FILE:LINE:COLUMN: ..." at the first place `text` has the number its message
+// quotes, or "FILE: ..." when it has none.
+inline std::string json_number_error(std::string_view text, std::string_view file,
+                                     const std::string& message) {
+  const std::size_t open = message.find('\''), close = message.rfind('\'');
+  const std::size_t at =
+      open < close ? text.find(message.substr(open + 1, close - open - 1)) : std::string_view::npos;
+  std::string out(file);
+  if (at != std::string_view::npos) {
+    out += ':';
+    out += line_and_column(text, at + 1);
+  }
+  out += ": ";
+  out += message;
+  return out;
+}
+
 // A key as a JSON pointer token (RFC 6901): '~' and '/' escaped.
 inline std::string json_pointer_token(std::string_view key) {
   std::string out;

@@ -75,9 +75,16 @@ struct Row {
   ParamText params;
 };
 
+[[noreturn]] void too_many_runs(const GridRequest& grid) {
+  throw InputError(fmt::format(
+      "{}: more than {} runs in all (a grid is the product of its lists); give fewer values",
+      grid.where, kMaxRuns));
+}
+
 // Expands one grid into rows; a key the row's estimator and integrand do not read is dropped for
-// that row, and a key no row reads is an error (a typo would otherwise vanish silently).
-std::vector<Row> expand(const GridRequest& grid) {
+// that row, and a key no row reads is an error (a typo would otherwise vanish silently). Throws
+// when the rows, with `earlier` rows of the grids before, would be more than kMaxRuns.
+std::vector<Row> expand(const GridRequest& grid, std::size_t earlier) {
   if (grid.estimators.empty()) throw InputError(grid.where + ": no estimator given");
   if (grid.integrands.empty()) throw InputError(grid.where + ": no integrand given");
   std::vector<Row> rows;
@@ -93,6 +100,9 @@ std::vector<Row> expand(const GridRequest& grid) {
         keys_read.insert(key);
         if (values.empty())
           throw InputError(fmt::format("{}: parameter '{}' has no values", grid.where, key));
+        if (earlier + rows.size() + partial.size() * values.size() > kMaxRuns) {
+          too_many_runs(grid);
+        }
         std::vector<ParamText> next;
         for (const ParamText& base : partial) {
           for (const std::string& value : values) {
@@ -103,6 +113,7 @@ std::vector<Row> expand(const GridRequest& grid) {
         }
         partial = std::move(next);
       }
+      if (earlier + rows.size() + partial.size() > kMaxRuns) too_many_runs(grid);
       for (ParamText& params : partial) rows.push_back({&estimator, &integrand, std::move(params)});
     }
   }
@@ -170,13 +181,16 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
     std::string where;
   };
   std::map<std::uint64_t, SeenRow> seen;
+  std::size_t rows_so_far = 0;  // before identical rows collapse: what expanding costs
   for (const GridRequest& grid : grids) {
     if (grid.expect && std::find(kExpectations.begin(), kExpectations.end(), *grid.expect) ==
                            kExpectations.end()) {
       throw InputError(fmt::format("{}: expect '{}' is not valid; valid: {}", grid.where,
                                    *grid.expect, join_names(kExpectations)));
     }
-    for (Row& row : expand(grid)) {
+    std::vector<Row> rows = expand(grid, rows_so_far);
+    rows_so_far += rows.size();
+    for (Row& row : rows) {
       RunPlan plan;
       plan.where = grid.where;
       plan.estimator = row.estimator;

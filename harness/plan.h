@@ -26,6 +26,9 @@ inline constexpr std::uint64_t kMaxSamples = 0xFFFFFFFFull;
 inline constexpr std::uint32_t kMaxReplicates = 0xFFFFFFu;
 // 10^13 camera samples would take weeks here; a budget beyond it is a typo.
 inline constexpr double kMaxTotalSamples = 1e13;
+// Runs one invocation may plan (the default suite has 113). A grid is a product, so a few
+// hundred bytes of lists ask for 10^9 runs: refused while expanding, before its plans fill memory.
+inline constexpr std::size_t kMaxRuns = 100000;
 
 // A grid: the product of its lists. A plain suite row is a grid whose lists have one element.
 struct GridRequest {

@@ -39,6 +39,9 @@ class SuiteParser {
       // e.byte is the offset of the error; turn it into a line and column.
       throw InputError(fmt::format("{}:{}: JSON syntax error: {}", file_,
                                    line_and_column(text, e.byte), e.what()));
+    } catch (const Json::out_of_range& e) {
+      // A number too large for a double ("samples": 1e999) is not a syntax error to the parser.
+      throw InputError(json_number_error(text, file_, e.what()));
     }
     require_object(root, "");
     check_keys(root, "",

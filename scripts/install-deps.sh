@@ -10,6 +10,7 @@ packages=(
   libembree-dev libopenexr-dev libimath-dev openexr libtinyobjloader-dev
   python3 python3-jsonschema python3-matplotlib python3-openimageio
   chromium
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -23,6 +23,10 @@ step "tests: ci (release)" ctest --preset ci -j "$jobs"
 step "configure (asan)" cmake --preset asan
 step "build (asan)" cmake --build --preset asan --target pcbench_tests
 step "tests: sanitize (asan)" ctest --preset asan -j "$jobs"
+# Replays fuzz/regressions/ and fuzzes each parser for 30 s (clang, ASan + UBSan; fuzz/README.md).
+step "configure (fuzz)" cmake --preset fuzz
+step "build (fuzz)" cmake --build --preset fuzz
+step "fuzz: 30 s per target" bash scripts/fuzz.sh all 30
 
 echo "== time by step"
 printf '%s\n' "${tally[@]}"

@@ -142,6 +142,17 @@ TEST(PlanCollapse, EqualValuesSpelledDifferentlyInOneGridCollapse) {
   EXPECT_EQ(plans[1].integrand_params.real("sharpness"), 5.0);
 }
 
+// A suite of eight lists of ten values (fuzz/regressions/suite/grid-explosion.json) asked for
+// 10^8 runs: planning timed out in the suite fuzz target and would have run out of memory.
+TEST(PlanGrid, AGridOfTooManyRunsIsRejectedBeforeExpanding) {
+  Values params;
+  for (const char* key : {"M", "K", "cache_cells", "light_dims", "camera_dims", "sharpness"}) {
+    for (int v = 1; v <= 10; ++v) params[key].push_back(std::to_string(v));
+  }
+  const std::string message = plan_error({grid({"pcbpt"}, {"genz-gaussian"}, params)});
+  EXPECT_TRUE(contains(message, "test: more than 100000 runs in all")) << message;
+}
+
 TEST(PlanCollapse, RowsThatDifferOnlyInAKeyTheyDoNotReadCollapse) {
   // `f` is dropped for genz-gaussian rows; the two remaining rows are the same run.
   const std::vector<RunPlan> plans =

@@ -279,6 +279,15 @@ TEST(SuiteFileParse, SuiteWithoutRunsIsRejected) {
   EXPECT_TRUE(contains(suite_error(R"({"name": "empty", "runs": [], "grid": []})"), "no \"runs\""));
 }
 
+// Found by the suite fuzz target (fuzz/regressions/suite/): nlohmann-json reports a number too
+// large for a double as out_of_range, not as a parse error, and it escaped as an abort.
+TEST(SuiteFileParse, NumberTooLargeForADoubleIsBadInputAtItsPlace) {
+  const std::string message =
+      suite_error(suite_with_runs("{\"estimator\": \"plain\",\n \"samples\": 1e999}"));
+  EXPECT_TRUE(contains(message, "suite.json:2:13: ")) << message;
+  EXPECT_TRUE(contains(message, "number overflow parsing '1e999'")) << message;
+}
+
 TEST(SuiteFileLoad, MissingFileIsAnInputErrorNamingThePath) {
   const TemporaryFolder folder;
   const std::string path = (folder.path() / "no-such-suite.json").string();

@@ -3,12 +3,26 @@
 #include <stdexcept>
 
 namespace pcbench::scene {
+namespace {
+
+// One device for the process, never released. A device per scene ran out after about a thousand
+// (a suite over many resolutions keeps a scene per resolution; found by the suite fuzz target),
+// and rtcNewDevice failing there aborted pcbench instead of running it.
+RTCDevice shared_device() {
+  static const RTCDevice device = [] {
+    RTCDevice created = rtcNewDevice(nullptr);
+    if (!created) throw std::runtime_error("Embree: rtcNewDevice failed");
+    return created;
+  }();
+  return device;
+}
+
+}  // namespace
 
 EmbreeScene::EmbreeScene(const std::vector<Triangle>& triangles) {
-  device_ = rtcNewDevice(nullptr);
-  if (!device_) throw std::runtime_error("Embree: rtcNewDevice failed");
-  scene_ = rtcNewScene(device_);
-  RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  RTCDevice device = shared_device();
+  scene_ = rtcNewScene(device);
+  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   const std::size_t n = triangles.size();
   auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
       geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
@@ -31,7 +45,6 @@ EmbreeScene::EmbreeScene(const std::vector<Triangle>& triangles) {
 
 EmbreeScene::~EmbreeScene() {
   if (scene_) rtcReleaseScene(scene_);
-  if (device_) rtcReleaseDevice(device_);
 }
 
 }  // namespace pcbench::scene

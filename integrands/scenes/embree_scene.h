@@ -1,6 +1,6 @@
-// An Embree 3 device and committed triangle scene built from a scene's triangles (float copies,
-// one vertex triple per triangle), released on destruction. Scene traces through it; the
-// benchmarks call Embree on it directly to measure the raw rate.
+// An Embree 3 committed triangle scene built from a scene's triangles (float copies, one vertex
+// triple per triangle) on the process's one Embree device, released on destruction. Scene traces
+// through it; the benchmarks call Embree on it directly to measure the raw rate.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -21,7 +21,6 @@ class EmbreeScene {
   RTCScene handle() const { return scene_; }
 
  private:
-  RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
 };
 

@@ -157,13 +157,8 @@ class SceneParser {
       throw InputError(fmt::format("{}:{}: JSON syntax error: {}", file_,
                                    line_and_column(text, e.byte), e.what()));
     } catch (const Json::out_of_range& e) {
-      // A number too large for a double ("1e999"); the message quotes it, so find it.
-      const std::string message = e.what();
-      const std::size_t open = message.find('\''), close = message.rfind('\'');
-      const std::size_t at = open < close ? text.find(message.substr(open + 1, close - open - 1))
-                                          : std::string_view::npos;
-      if (at == std::string_view::npos) throw InputError(fmt::format("{}: {}", file_, message));
-      throw InputError(fmt::format("{}:{}: {}", file_, line_and_column(text, at + 1), message));
+      // A number too large for a double ("1e999").
+      throw InputError(json_number_error(text, file_, e.what()));
     }
   }
 
