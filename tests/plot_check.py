@@ -18,6 +18,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from check_log import check, summary  # noqa: E402
 from page_check import check_page  # noqa: E402
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -36,61 +37,44 @@ def is_png(path):
         return f.read(8) == PNG_SIGNATURE and os.path.getsize(path) > 2000
 
 
-class Checks:
-    def __init__(self):
-        self.failed = 0
-        self.passed = 0
-
-    def __call__(self, description, ok, detail=""):
-        if ok:
-            self.passed += 1
-            print(f"ok      {description}")
-        else:
-            self.failed += 1
-            print(f"FAILED  {description} {detail}")
-
-
-def check_plotted(check, pcbench, report, expected_figures, name):
+def check_plotted(pcbench, report, expected_figures, name):
     out = os.path.join(os.path.dirname(report), "plots")
     done = run([pcbench, "plot", report])
-    check(f"{name}: prints where the page is",
-          f"page: {os.path.join(out, 'index.html')}" in done.stdout, done.stdout)
+    check(f"page: {os.path.join(out, 'index.html')}" in done.stdout,
+          f"{name}: prints where the page is", done.stdout)
     made = sorted(f for f in os.listdir(out) if f.endswith(".png"))
-    check(f"{name}: figures {expected_figures}", made == sorted(expected_figures), str(made))
-    check(f"{name}: every figure is a PNG", all(is_png(os.path.join(out, f)) for f in made))
+    check(made == sorted(expected_figures), f"{name}: figures {expected_figures}", str(made))
+    check(all(is_png(os.path.join(out, f)) for f in made), f"{name}: every figure is a PNG")
     failures, seen = check_page(os.path.join(out, "index.html"), report)
-    check(f"{name}: the page renders without errors and its table matches the report "
-          f"({len(seen['rows'])} rows, {len(seen['images'])} images)", not failures,
-          "; ".join(failures))
-    check(f"{name}: every figure is on the page", len(seen["images"]) == len(made))
+    check(not failures, f"{name}: the page renders without errors and its table matches the "
+          f"report ({len(seen['rows'])} rows, {len(seen['images'])} images)", "; ".join(failures))
+    check(len(seen["images"]) == len(made), f"{name}: every figure is on the page")
 
 
 def main():
-    pcbench, source = sys.argv[1], sys.argv[2]
-    check = Checks()
+    pcbench = sys.argv[1]  # argv[2], the source folder, is not needed
     with tempfile.TemporaryDirectory() as scratch:
         analytic = os.path.join(scratch, "analytic")
         # Exit 0: the control is expected biased and flagged.
         run([pcbench, "verify", "-e", "plain,pcbpt,ctl-wrong-count", "-i",
              "form-factor,genz-gaussian", "-n", "8192", "-r", "8", "--out", analytic, "-q"])
-        check_plotted(check, pcbench, os.path.join(analytic, "report.json"),
+        check_plotted(pcbench, os.path.join(analytic, "report.json"),
                       ["verification.png", "convergence_form-factor.png",
                        "convergence_genz-gaussian.png", "efficiency_ratios.png"], "analytic")
 
         scenes = os.path.join(scratch, "scenes")
         run([pcbench, "run", "-e", "plain,pt", "-i", "furnace,cornell", "-p", "resolution=16",
              "-n", "4", "-r", "4", "--out", scenes, "-q"])
-        check_plotted(check, pcbench, os.path.join(scenes, "report.json"),
+        check_plotted(pcbench, os.path.join(scenes, "report.json"),
                       ["verification.png", "scene_furnace.png", "scene_cornell.png"], "scenes")
         with open(os.path.join(scenes, "report.json")) as f:
             scene_runs = json.load(f)["runs"]
-        check("scenes: every run names its reference image",
-              all(os.path.isfile(os.path.join(scenes, r["image"]["files"]["reference"]))
-                  for r in scene_runs))
+        check(all(os.path.isfile(os.path.join(scenes, r["image"]["files"]["reference"]))
+                  for r in scene_runs), "scenes: every run names its reference image")
 
         calibration = os.path.join(scratch, "calibration")
         run([pcbench, "calibrate", "--seeds", "20", "-n", "500", "--out", calibration, "-q"])
-        check_plotted(check, pcbench, os.path.join(calibration, "report.json"),
+        check_plotted(pcbench, os.path.join(calibration, "report.json"),
                       ["verification.png", "calibration_qq.png"], "calibration")
 
         # The same analytic report without any optional section still plots.
@@ -107,7 +91,7 @@ def main():
             r["aggregates"] = {k: None for k in r.get("aggregates") or {}}
         with open(os.path.join(bare, "report.json"), "w") as f:
             json.dump(stripped, f)
-        check_plotted(check, pcbench, os.path.join(bare, "report.json"), ["verification.png"],
+        check_plotted(pcbench, os.path.join(bare, "report.json"), ["verification.png"],
                       "without optional sections")
 
         # Bad input: exit 2 and no folder made.
@@ -117,11 +101,10 @@ def main():
         for args in ([os.path.join(scratch, "missing.json")], [not_report],
                      [os.path.join(analytic, "report.json"), "--out", not_report]):
             done = subprocess.run([pcbench, "plot"] + args, capture_output=True, text=True)
-            check(f"bad input {args[-1]} exits 2 with a message",
-                  done.returncode == 2 and "error" in done.stderr, done.stderr)
-        check("bad input writes nothing", not os.path.exists(os.path.join(scratch, "plots")))
-    print(f"{check.passed} passed, {check.failed} failed")
-    return 1 if check.failed else 0
+            check(done.returncode == 2 and "error" in done.stderr,
+                  f"bad input {args[-1]} exits 2 with a message", done.stderr)
+        check(not os.path.exists(os.path.join(scratch, "plots")), "bad input writes nothing")
+    return summary()
 
 
 if __name__ == "__main__":

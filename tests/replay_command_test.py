@@ -18,17 +18,9 @@ import subprocess
 import sys
 import tempfile
 
-passed = failed = 0
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from check_log import check, summary  # noqa: E402
 
-
-def check(condition, what, detail=""):
-    global passed, failed
-    if condition:
-        passed += 1
-        print("ok      " + what, flush=True)
-    else:
-        failed += 1
-        print("FAILED  " + what + (": " + detail if detail else ""), flush=True)
 
 
 def run(args, cwd, shell=False):
@@ -75,8 +67,7 @@ def main():
             values.append(json.loads(out)["estimate"] if status == 0 else err)
         check(values == tallied, "finite samples replay as the values the run tallied",
               "%s vs %s" % (values, tallied))
-    print("%d passed, %d failed" % (passed, failed))
-    return 1 if failed else 0
+    return summary()
 
 
 if __name__ == "__main__":

@@ -25,6 +25,9 @@ import tempfile
 import jsonschema
 from jsonschema import validators
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from check_log import check, summary  # noqa: E402
+
 TIMING = {"seconds", "cpu_seconds", "wall_seconds", "seconds_per_sample", "efficiency",
           "efficiency_low", "efficiency_high", "pilot_cpu_seconds_per_sample",
           "rays_per_cpu_second", "cpu_seconds_per_replicate", "rel_mse_at_1_cpu_second"}
@@ -58,18 +61,6 @@ SUITE = {
 BEFORE_SLOW = "plain × narrow-peak"
 RESTORED = 6  # the runs before the slow one
 
-passed = failed = 0
-
-
-def check(condition, what, detail=""):
-    global passed, failed
-    if condition:
-        passed += 1
-        print("ok      " + what, flush=True)
-    else:
-        failed += 1
-        print("FAILED  " + what + (": " + detail if detail else ""), flush=True)
-    return condition
 
 
 def differences(a, b, path="", out=None):
@@ -189,8 +180,7 @@ def main():
         status, err = run(binary, command + ["--out", "full", "--resume"], tmp)
         check(status == 2 and "no interrupted session" in err,
               "--resume of a finished session is bad input", err)
-    print("%d passed, %d failed" % (passed, failed))
-    return 1 if failed else 0
+    return summary()
 
 
 if __name__ == "__main__":

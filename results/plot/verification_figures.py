@@ -35,6 +35,7 @@ def _z_panel(ax, runs):
     tested = tested_runs(runs)
     if not tested:
         ax.text(0.5, 0.5, "no tested runs", ha="center", va="center", transform=ax.transAxes)
+        ax.set_axis_off()
         return
     for i, run in enumerate(tested):
         controls = field(run, "verdict", "expect") == "biased"
@@ -59,21 +60,31 @@ def _qq_panel(ax, runs):
     if len(ps) < 2:
         ax.text(0.5, 0.5, "fewer than 2 honest tested runs", ha="center", va="center",
                 transform=ax.transAxes)
+        ax.set_axis_off()
         return
     n = len(ps)
-    expected = [(i + 0.5) / n for i in range(n)]
-    band = 1.358 / math.sqrt(n)  # the 95% Kolmogorov–Smirnov critical distance, large n
-    ax.fill_between([0, 1], [-band, 1 - band], [band, 1 + band], color="grey", alpha=0.2,
-                    label="95% KS band")
-    ax.plot([0, 1], [0, 1], color="black", linewidth=0.8)
-    ax.scatter(expected, ps, s=10, color=VERDICT_COLOURS["consistent"],
+    _uniform_qq_axes(ax, n, "raw p-value", "p-values of honest runs against the uniform")
+    ax.scatter(_uniform_quantiles(n), ps, s=10, color=VERDICT_COLOURS["consistent"],
                label=f"{n} honest runs")
+    ax.legend(fontsize=7, loc="upper left")
+
+
+def _uniform_quantiles(n):
+    return [(i + 0.5) / n for i in range(n)]
+
+
+def _uniform_qq_axes(ax, n, ylabel, title):
+    """The frame of a QQ plot against the uniform: the diagonal and the 95% Kolmogorov–Smirnov
+    band for n points (1.358 / √n, the large-n critical distance)."""
+    band = 1.358 / math.sqrt(n)
+    ax.fill_between([0, 1], [-band, 1 - band], [band, 1 + band], color="grey", alpha=0.2,
+                    label=f"95% KS band (n = {n})")
+    ax.plot([0, 1], [0, 1], color="black", linewidth=0.8)
     ax.set_xlim(0, 1)
     ax.set_ylim(0, 1)
     ax.set_xlabel("uniform quantile")
-    ax.set_ylabel("raw p-value")
-    ax.set_title("p-values of honest runs against the uniform", fontsize=9)
-    ax.legend(fontsize=7, loc="upper left")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
 
 
 def predicted_power(bias, stderr, alpha):
@@ -109,6 +120,7 @@ def _power_panel(ax, runs, calibration):
         if not drawn:
             ax.text(0.5, 0.5, "no honest tested runs", ha="center", va="center",
                     transform=ax.transAxes)
+            ax.set_axis_off()
             return
         ax.axhline(0.8, color="grey", linestyle="--", linewidth=0.8, label="80%")
         ax.set_title(f"power of each honest run's test ({drawn} runs)", fontsize=9)
@@ -140,20 +152,11 @@ def calibration_qq_figure(calibration, path):
         return None
     fig, axes = new_figure(1, width=5.0, height=4.0)
     ax = axes[0][0]
-    n_max = max(len(e["p_values"]) for e in estimators)
-    band = 1.358 / math.sqrt(n_max)
-    ax.fill_between([0, 1], [-band, 1 - band], [band, 1 + band], color="grey", alpha=0.2,
-                    label=f"95% KS band (n = {n_max})")
-    ax.plot([0, 1], [0, 1], color="black", linewidth=0.8)
+    _uniform_qq_axes(ax, max(len(e["p_values"]) for e in estimators), "p-value over seeds",
+                     "calibration: p-values against the uniform")
     for e in estimators:
         ps = sorted(p for p in e["p_values"] if number(p) is not None)
-        n = len(ps)
-        ax.plot([(i + 0.5) / n for i in range(n)], ps, marker=".", markersize=3, linewidth=0.8,
+        ax.plot(_uniform_quantiles(len(ps)), ps, marker=".", markersize=3, linewidth=0.8,
                 label=f"{e['estimator']} (KS p {e.get('ks_p_value', float('nan')):.2g})")
-    ax.set_xlim(0, 1)
-    ax.set_ylim(0, 1)
-    ax.set_xlabel("uniform quantile")
-    ax.set_ylabel("p-value over seeds")
-    ax.set_title("calibration: p-values against the uniform", fontsize=9)
     ax.legend(fontsize=7, loc="upper left")
     return save(fig, path)
