@@ -115,7 +115,9 @@ void append_part(RunResult& run, RunResult&& part) {
   run.counters.add(part.counters);
   for (auto& rep : part.replicates) run.replicates.push_back(std::move(rep));
   for (auto& image : part.images) run.images.push_back(std::move(image));
-  for (const auto& [name, count] : part.scene_counters) {
+  for (const auto& counter : part.scene_counters) {
+    const std::string& name = counter.first;
+    const std::uint64_t count = counter.second;
     const auto same = std::find_if(run.scene_counters.begin(), run.scene_counters.end(),
                                    [&](const auto& c) { return c.first == name; });
     if (same == run.scene_counters.end()) {
@@ -149,8 +151,10 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   const std::uint64_t samples = plan.samples;
   const std::uint32_t chunk = chunk_size(samples);
   const std::uint64_t chunks_per_replicate = (samples + chunk - 1) / chunk;
-  const auto [first_replicate, end_replicate] = replicate_range(plan, options);
-  const std::uint32_t replicates = end_replicate - first_replicate;
+  // Not a structured binding: clang 14 (the fuzz build) cannot capture one in a lambda.
+  const std::pair<std::uint32_t, std::uint32_t> taken = replicate_range(plan, options);
+  const std::uint32_t first_replicate = taken.first;
+  const std::uint32_t replicates = taken.second - taken.first;
   const std::uint64_t task_count = chunks_per_replicate * replicates;
   std::vector<ChunkResult> chunks;
 
