@@ -6,17 +6,17 @@
 #include <cmath>
 #include <vector>
 
+#include "harness/tally.h"
+
 namespace pcbench {
 
 namespace {
 
-double sample_variance(std::span<const double> x) {
-  double mean = 0.0;
-  for (double v : x) mean += v;
-  mean /= static_cast<double>(x.size());
-  double ss = 0.0;
-  for (double v : x) ss += (v - mean) * (v - mean);
-  return ss / static_cast<double>(x.size() - 1);
+// Mean and variance (n - 1 in the denominator) with the harness's own accumulation.
+Tally tally_of(std::span<const double> values) {
+  Tally tally;
+  for (std::size_t i = 0; i < values.size(); ++i) tally.add(values[i], i);
+  return tally;
 }
 
 // Each factor's share of the miss probability (Bonferroni over the two).
@@ -30,8 +30,8 @@ EfficiencyRatio efficiency_ratio(std::span<const double> estimates_a, std::span<
   EfficiencyRatio out;
   out.pairs = static_cast<std::uint32_t>(std::min(cpu_a.size(), cpu_b.size()));
   if (estimates_a.size() < 2 || estimates_b.size() < 2 || out.pairs < 2) return out;
-  const double var_a = sample_variance(estimates_a);
-  const double var_b = sample_variance(estimates_b);
+  const double var_a = tally_of(estimates_a).variance();
+  const double var_b = tally_of(estimates_b).variance();
   std::vector<double> log_cost;  // log(c_a,r / c_b,r)
   for (std::uint32_t r = 0; r < out.pairs; ++r) {
     if (cpu_a[r] <= 0.0 || cpu_b[r] <= 0.0) return out;
@@ -48,13 +48,9 @@ EfficiencyRatio efficiency_ratio(std::span<const double> estimates_a, std::span<
   out.variance_low = out.variance_ratio / boost::math::quantile(f, 1.0 - kFactorMiss / 2.0);
   out.variance_high = out.variance_ratio / boost::math::quantile(f, kFactorMiss / 2.0);
 
-  double mean = 0.0;
-  for (double d : log_cost) mean += d;
-  mean /= static_cast<double>(log_cost.size());
-  double ss = 0.0;
-  for (double d : log_cost) ss += (d - mean) * (d - mean);
-  const double se = std::sqrt(ss / static_cast<double>(log_cost.size() - 1) /
-                              static_cast<double>(log_cost.size()));
+  const Tally cost = tally_of(log_cost);
+  const double mean = cost.mean();
+  const double se = std::sqrt(cost.variance() / static_cast<double>(log_cost.size()));
   const double t = boost::math::quantile(
       boost::math::students_t(static_cast<double>(log_cost.size() - 1)), 1.0 - kFactorMiss / 2.0);
   out.cost_ratio = std::exp(mean);
