@@ -18,6 +18,7 @@
 #include "harness/list_command.h"
 #include "harness/plan.h"
 #include "harness/plot_command.h"
+#include "harness/reference_command.h"
 #include "harness/replay.h"
 #include "harness/session.h"
 #include "harness/suite_file.h"
@@ -40,6 +41,7 @@ struct RunArguments {
   bool quiet = false;
   bool interleave = false;
   bool resume = false;
+  std::string reference_cache = kDefaultReferenceCache;
   // verify only
   bool verify = false;
   double alpha = kDefaultAlpha;
@@ -168,6 +170,7 @@ SessionOptions session_options(const RunArguments& args, const std::vector<std::
   session.alpha = args.alpha;
   session.escalate = args.verify;
   session.interleave = args.interleave;
+  session.reference_cache = args.reference_cache;
   if (!args.out_dir.empty()) session.out_dir = args.out_dir;
   return session;
 }
@@ -265,6 +268,11 @@ CLI::Validator alpha_check() {
       "in (0, 1)");
 }
 
+void add_reference_cache_option(CLI::App* app, RunArguments& args) {
+  app->add_option("--reference-cache", args.reference_cache,
+                  "folder of converged scene images (default results/references)");
+}
+
 // The selection and budget options `run` and `verify` share.
 void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_option("suite", args.suite_path, "suite file (JSON)");
@@ -295,6 +303,51 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_flag(
       "--resume", args.resume,
       "with --out DIR of an interrupted session: restore its finished runs, run the rest");
+  add_reference_cache_option(app, args);
+}
+
+// `pcbench reference`: scenes and the estimator and budget that render their converged images.
+void add_reference_options(CLI::App* app, RunArguments& args) {
+  app->add_option("--integrand,-i", args.integrands, "scene(s); a comma list renders each")
+      ->required()
+      ->delimiter(',');
+  app->add_option("--estimator,-e", args.estimators, "estimator (default plain: BDPT)")
+      ->delimiter(',');
+  app->add_option("--param,-p", args.params, "key=value, repeatable (resolution, max_length, …)");
+  app->add_option("--samples,-n", args.samples, "samples per pixel per replicate (default 256)")
+      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
+  app->add_option("--replicates,-r", args.replicates,
+                  "replicates, for the image's standard error (default 8)")
+      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
+  app->add_option("--seed,-s", args.seed, "seed (default 1)")
+      ->check(CLI::Range(std::uint64_t{0},
+                         static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
+  app->add_option("--threads,-t", args.threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(1u, 1024u));
+  add_reference_cache_option(app, args);
+}
+
+constexpr std::uint64_t kDefaultReferenceSamples = 256;
+constexpr std::uint32_t kDefaultReferenceReplicates = 8;
+
+int reference_command_line(RunArguments args, const std::vector<std::string>& argv,
+                           std::ostream& out, std::ostream& err,
+                           const std::atomic<bool>* interrupted) {
+  if (args.estimators.empty()) args.estimators = {"plain"};
+  GridRequest grid{
+      .estimators = args.estimators, .integrands = args.integrands, .where = "command line"};
+  grid.params = params_from_flags(args, grid);
+  BudgetDefaults budget;
+  budget.forced_samples = args.samples > 0 ? args.samples : kDefaultReferenceSamples;
+  budget.forced_replicates = args.replicates > 0 ? args.replicates : kDefaultReferenceReplicates;
+  const std::vector<RunPlan> plans = plan_runs({grid}, budget);
+  const unsigned threads =
+      args.threads > 0 ? args.threads : static_cast<unsigned>(tbb::info::default_concurrency());
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  return run_reference_command(
+      plans,
+      {.seed = args.seed, .cache = args.reference_cache, .argv = argv, .interrupted = interrupted},
+      out, err);
 }
 
 // `pcbench replay`: one run's selection and budget, and the sample to evaluate.
@@ -419,6 +472,13 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       "non-finite sample prints)");
   add_replay_options(replay, replay_args, replay_request);
 
+  RunArguments reference_args;
+  CLI::App* reference = app.add_subcommand(
+      "reference",
+      "render converged images of scenes into the reference cache, for the errors (RMSE, "
+      "relative MSE, equal time) of later scene runs");
+  add_reference_options(reference, reference_args);
+
   std::string plot_report;
   std::optional<std::string> plot_out;
   CLI::App* plot = app.add_subcommand(
@@ -468,6 +528,9 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
                                  session_options(compare_args, argv, interrupted), out, err);
     }
     if (replay->parsed()) return replay_command_line(replay_args, replay_request, *replay, out);
+    if (reference->parsed()) {
+      return reference_command_line(reference_args, argv, out, err, interrupted);
+    }
     return run_command(run_args, *run, argv, out, err, interrupted);
   } catch (const InputError& e) {
     err << "pcbench: error: " << e.what() << "\n";

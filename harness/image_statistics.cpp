@@ -171,6 +171,17 @@ TileTestResult decide_tiles(const std::vector<TwoSampleTest>& raw, const Tiling&
 
 }  // namespace
 
+std::vector<double> relative_error_scale(const Image& reference) {
+  double mean = 0.0;
+  for (double v : reference.values) mean += v;
+  mean /= static_cast<double>(std::max<std::size_t>(1, reference.values.size()));
+  std::vector<double> scale(reference.values.size());
+  for (std::size_t i = 0; i < scale.size(); ++i) {
+    scale[i] = reference.values[i] + kRelativeErrorFloor * mean;
+  }
+  return scale;
+}
+
 PixelStatistics pixel_statistics(std::span<const Image> replicates) {
   check_replicates(replicates);
   const Image& first = replicates.front();

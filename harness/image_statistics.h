@@ -30,6 +30,12 @@ struct PixelStatistics {
 // Throws std::invalid_argument for fewer than 2 replicates or images of different sizes.
 PixelStatistics pixel_statistics(std::span<const Image> replicates);
 
+// Relative errors against a reference image divide by the reference plus this share of its mean,
+// so that black pixels do not dominate a relative MSE.
+inline constexpr double kRelativeErrorFloor = 1e-2;
+// That denominator for every value of `reference`.
+std::vector<double> relative_error_scale(const Image& reference);
+
 // z = (mean_a - mean_b) / sqrt(se_a² + se_b²) per pixel and channel. Where the denominator is 0,
 // z is 0 for equal means and ±inf otherwise (never the NaN of 0/0); NaN only from NaN input.
 // Throws std::invalid_argument for images of different sizes.

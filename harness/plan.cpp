@@ -6,25 +6,13 @@
 #include <set>
 
 #include "harness/errors.h"
+#include "harness/text_hash.h"
 
 namespace pcbench {
 
 const std::vector<std::string> kExpectations = {"consistent", "biased", "inconclusive"};
 
 namespace {
-
-constexpr std::uint64_t kFnvOffset = 0xCBF29CE484222325ull;
-constexpr std::uint64_t kFnvPrime = 0x100000001B3ull;
-
-std::uint64_t fnv1a(std::uint64_t hash, const std::string& text) {
-  for (const unsigned char c : text) {
-    hash ^= c;
-    hash *= kFnvPrime;
-  }
-  // A separator byte that text cannot produce, so that ("ab","c") and ("a","bc") differ.
-  hash ^= 0xFF;
-  return hash * kFnvPrime;
-}
 
 bool declares(const std::vector<ParamSpec>& specs, const std::string& key) {
   return std::any_of(specs.begin(), specs.end(),

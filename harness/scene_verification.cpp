@@ -8,6 +8,7 @@
 #include <optional>
 #include <span>
 
+#include "harness/image_errors.h"
 #include "harness/image_statistics.h"
 #include "integrands/scenes/scene_integrand.h"
 #include "results/exr_file.h"
@@ -16,13 +17,6 @@ namespace pcbench {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Relative MSE denominators get this floor (× the reference image's mean) so that black pixels
-// do not dominate.
-constexpr double kRelativeFloor = 1e-2;
-// Required power: a tile bias of this fraction of the tile mean is detectable at 80% power on
-// tiles brighter than 10% of the image mean.
-constexpr double kRequiredRelativeMdb = 0.05;
 
 const SceneIntegrand* scene_of(const RunRecord& r) {
   if (!r.plan->render || r.result.status != RunStatus::kOk || r.result.images.size() < 2) {
@@ -36,15 +30,8 @@ bool same_scene(const RunRecord& a, const RunRecord& b) {
          a.plan->integrand_params.values() == b.plan->integrand_params.values();
 }
 
-// Whether the estimator samples every path of the scene that carries light: path tracing misses
-// point light → mirror paths; light tracing misses camera → mirror paths.
 bool samples_all_paths(const RunRecord& r, const scene::Scene& s) {
-  const scene::Method m = r.plan->render->method;
-  if (m == scene::Method::kPathTracing) {
-    return !(s.traits().has_point_lights && s.traits().has_specular);
-  }
-  if (m == scene::Method::kLightTracing) return !s.traits().has_specular;
-  return true;
+  return scene::samples_all_paths(r.plan->render->method, s);
 }
 
 Image constant_image(const scene::Scene& s, const scene::Rgb& value) {
@@ -63,7 +50,7 @@ Verdict tile_verdict(const TileTestResult& t, std::string expect) {
       "{} tile×channel tests, smallest Holm-adjusted p {:.3g}; detectable tile bias ≤ {:.2f}% "
       "of the tile mean on {} bright tiles (required ≤ {:.0f}%)",
       t.tests, t.min_p_adjusted, 100.0 * t.worst_bright_relative_mdb, t.bright_tiles,
-      100.0 * kRequiredRelativeMdb);
+      100.0 * kMaxBrightRelativeMdb);
   return v;
 }
 
@@ -172,6 +159,12 @@ std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
 
 namespace {
 
+// A cached converged image and its copy beside the report (relative to the report folder).
+struct CachedCopy {
+  ReferenceImage image;
+  std::string file;
+};
+
 // A run's image file of one kind (mean, stderr, zmap, reference), relative to the report folder.
 std::string image_file(const std::string& run_id, const char* kind) {
   return fmt::format("images/{}_{}.exr", run_id, kind);
@@ -179,7 +172,8 @@ std::string image_file(const std::string& run_id, const char* kind) {
 
 }  // namespace
 
-void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder) {
+void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder,
+                        const ReferenceCache* cache, std::ostream& warn) {
   // The best-converged honest images per scene (smallest mean standard error first): a run's
   // reference where there is no exact one is the best of the others.
   std::map<const IntegrandEntry*, std::vector<std::pair<double, const RunRecord*>>> converged;
@@ -197,26 +191,24 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
     stats.emplace(&r, std::move(s));
   }
   for (auto& [integrand, runs] : converged) std::sort(runs.begin(), runs.end());
+  // Cached converged images, looked up (and copied beside the report) once per scene.
+  std::map<const scene::Scene*, std::optional<CachedCopy>> cached;
+  const auto cached_reference = [&](const scene::Scene& s) -> const CachedCopy* {
+    auto [it, inserted] = cached.try_emplace(&s);
+    if (inserted && cache) {
+      if (auto found = cache->find(s.description(), warn)) {
+        const std::string name =
+            fmt::format("images/reference_{}.exr", reference_key(s.description()));
+        write_exr_rgb(folder / name, found->mean);
+        it->second = CachedCopy{std::move(*found), name};
+      }
+    }
+    return it->second ? &*it->second : nullptr;
+  };
   for (RunRecord& r : records) {
     const SceneIntegrand* scene = scene_of(r);
     if (!scene) continue;
     const PixelStatistics& s = stats.at(&r);
-    std::optional<Image> reference;
-    std::span<const Image> reference_images;                // what the pixel test compares with
-    const PixelStatistics* reference_statistics = nullptr;  // of a reference run
-    std::string reference_kind = "none";
-    std::string reference_mean_file;  // a reference run's mean image, already written
-    if (scene->exact_radiance()) {
-      reference = constant_image(scene->scene(), *scene->exact_radiance());
-      reference_images = std::span(&*reference, 1);
-      reference_kind = "exact";
-    } else if (const RunRecord* b = best_other(converged[r.plan->integrand], &r)) {
-      reference_statistics = &stats.at(b);
-      reference = reference_statistics->mean;
-      reference_images = b->result.images;
-      reference_kind = "run " + b->plan->id;
-      reference_mean_file = image_file(b->plan->id, "mean");
-    }
     fs::create_directories(folder / "images");
     const std::string stem = r.plan->id;
     nlohmann::ordered_json files;
@@ -230,56 +222,56 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
     write_image("stderr", s.standard_error);
     nlohmann::ordered_json image = {{"width", s.mean.width}, {"height", s.mean.height}};
     image["rays_per_cpu_second"] = rays_per_cpu_second(r);
-    if (reference) {
-      const Image z = reference_statistics ? z_map(s, *reference_statistics) : z_map(s, *reference);
-      const PixelTestSummary pixels = summarize_z(z, r.result.images, reference_images);
+
+    // The pixel test: against the exact image, or else the best other honest run of this
+    // session (never the cache: verification trusts no stored image).
+    std::optional<Image> exact;
+    const RunRecord* other = nullptr;
+    if (scene->exact_radiance()) {
+      exact = constant_image(scene->scene(), *scene->exact_radiance());
+    } else {
+      other = best_other(converged[r.plan->integrand], &r);
+    }
+    if (exact || other) {
+      const Image z = other ? z_map(s, stats.at(other)) : z_map(s, *exact);
+      const PixelTestSummary pixels =
+          summarize_z(z, r.result.images,
+                      other ? std::span<const Image>(other->result.images) : std::span(&*exact, 1));
       image["pixel_test"] = {{"test", "pixel-z"},
+                             {"against", other ? "run " + other->plan->id : "exact"},
                              {"statistic", pixels.max_abs_z},
                              {"pixels_beyond_4_sigma", pixels.pixels_beyond_4_sigma},
                              {"expected_beyond_4_sigma_at_most", pixels.expected_beyond_4_sigma},
                              {"low_count_pixels", pixels.low_count_pixels}};
       write_image("zmap", z);
-      // The image this run was compared with, so that plots show it without recomputing it: the
-      // exact image is written beside the run's own; a reference run's mean is already there.
-      if (!reference_mean_file.empty()) {
-        files["reference"] = reference_mean_file;
-      } else {
-        write_image("reference", *reference);
-      }
-      double mean_ref = 0.0;
-      for (double v : reference->values) mean_ref += v;
-      mean_ref /= static_cast<double>(reference->values.size());
-      // Errors of the replicate images (one replicate's cost) and of the mean over replicates.
-      auto errors = [&](const Image& x, double& mse, double& rel) {
-        mse = rel = 0.0;
-        for (std::size_t i = 0; i < x.values.size(); ++i) {
-          const double d = x.values[i] - reference->values[i];
-          const double r0 = reference->values[i] + kRelativeFloor * mean_ref;
-          mse += d * d;
-          rel += d * d / (r0 * r0);
-        }
-        mse /= static_cast<double>(x.values.size());
-        rel /= static_cast<double>(x.values.size());
-      };
-      double mse = 0.0, rel = 0.0;
-      errors(s.mean, mse, rel);
-      double rel_replicate = 0.0, cpu = 0.0;
-      for (std::size_t k = 0; k < r.result.images.size(); ++k) {
-        double m = 0.0, q = 0.0;
-        errors(r.result.images[k], m, q);
-        rel_replicate += q;
-        cpu += r.result.replicates[k].cpu_seconds;
-      }
-      rel_replicate /= static_cast<double>(r.result.images.size());
-      cpu /= static_cast<double>(r.result.images.size());
-      image["reference"] = reference_kind;
-      image["rmse"] = std::sqrt(mse);
-      image["rel_mse"] = rel;
-      image["rel_mse_per_replicate"] = rel_replicate;
-      image["cpu_seconds_per_replicate"] = cpu;
-      // Relative MSE of one CPU second's worth of this estimator (error × cost: equal time).
-      image["rel_mse_at_1_cpu_second"] = rel_replicate * cpu;
-      image["efficiency"] = rel_replicate * cpu > 0.0 ? 1.0 / (rel_replicate * cpu) : 0.0;
+    }
+
+    // The errors: against the exact image, else a cached converged image, else the best other
+    // run. Its file is named so that plots show it without recomputing it.
+    const CachedCopy* copy = exact ? nullptr : cached_reference(scene->scene());
+    const Image* reference = nullptr;
+    const Image* reference_stderr = nullptr;
+    if (exact) {
+      reference = &*exact;
+      image["reference"] = "exact";
+      write_image("reference", *exact);
+    } else if (copy) {
+      reference = &copy->image.mean;
+      reference_stderr = &copy->image.standard_error;
+      image["reference"] = "cache";
+      image["reference_cache"] = copy->image.provenance;
+      files["reference"] = copy->file;
+    } else if (other) {
+      reference = &stats.at(other).mean;
+      reference_stderr = &stats.at(other).standard_error;
+      image["reference"] = "run " + other->plan->id;
+      files["reference"] = image_file(other->plan->id, "mean");
+    } else {
+      image["reference"] = "none";
+    }
+    if (reference) {
+      image.update(image_error_fields(r.result.images, r.result.replicates, s.mean, *reference,
+                                      reference_stderr));
     }
     image["files"] = files;
     r.image = std::move(image);

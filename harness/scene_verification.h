@@ -6,9 +6,11 @@
 #pragma once
 
 #include <filesystem>
+#include <ostream>
 #include <utility>
 #include <vector>
 
+#include "harness/reference_cache.h"
 #include "harness/report_compare.h"
 #include "harness/statistics.h"
 #include "results/report.h"
@@ -19,7 +21,11 @@ namespace pcbench {
 std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
     const std::vector<RunRecord>& records, double alpha);
 
-// Writes each scene run's EXR files under folder/images/ and fills its `image` section.
-void write_scene_images(std::vector<RunRecord>& records, const std::filesystem::path& folder);
+// Writes each scene run's EXR files under folder/images/ and fills its `image` section. Its
+// errors are measured against the exact image, else the cache's converged image of the scene
+// (when `cache` is given and holds one; unreadable entries are reported on `warn`), else the
+// best-converged other honest run of the session.
+void write_scene_images(std::vector<RunRecord>& records, const std::filesystem::path& folder,
+                        const ReferenceCache* cache, std::ostream& warn);
 
 }  // namespace pcbench

@@ -451,7 +451,8 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   sections.efficiency_ratios = efficiency_ratios_json(records, options.interleave);
   std::optional<fs::path> report_path;
   try {
-    write_scene_images(records, folder);
+    const ReferenceCache cache(options.reference_cache);
+    write_scene_images(records, folder, &cache, err);
     Context context = gather_context(options.argv, options.seed, options.threads);
     if (options.resume) {
       context.restored_runs = store->restored();

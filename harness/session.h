@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "harness/plan.h"
+#include "harness/reference_cache.h"
 #include "harness/run_store.h"
 #include "harness/statistics.h"
 
@@ -53,6 +54,8 @@ struct SessionOptions {
   // `--resume`: the interrupted session's journal, already checked against the plans. Its done
   // runs are restored instead of run; without it a session starts a new journal in its folder.
   std::shared_ptr<RunStore> resume;
+  // Converged scene images for the errors of scene runs (harness/reference_cache.h); read only.
+  std::filesystem::path reference_cache = kDefaultReferenceCache;
 };
 
 // Writes `report` atomically as report.json in the run folder (options.out_dir, or a new

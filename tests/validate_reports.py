@@ -305,6 +305,13 @@ def main():
         with open(suite_path, "w", encoding="utf-8") as f:
             json.dump(suite, f, indent=2)
 
+        # A converged image in a reference cache, for a scene report measured against it.
+        references = os.path.join(tmp, "references")
+        status, _, err = run_pcbench(binary, ["reference", "-i", "cornell", "-p", "resolution=8",
+                                              "-n", "8", "-r", "4", "--reference-cache",
+                                              references], tmp)
+        check(status == 0, "pcbench reference fills a reference cache", err.strip()[-500:])
+
         cases = [
             ("a-one-run", ["run", "-e", "plain", "-i", "genz-gaussian", "-n", "2000", "-r", "4"],
              0, False),
@@ -339,6 +346,9 @@ def main():
             # furnace, between estimators, the injected self-check) and a flagged control.
             ("m-scene", ["verify", "-e", "plain,pcbpt,ctl-scene-lvc-per-vertex", "-i",
                          "furnace,cornell", "-p", "resolution=8", "-n", "4", "-r", "4"], 0, False),
+            # Errors against the cached converged image: reference "cache" with its provenance.
+            ("n-scene-cached", ["run", "-e", "plain,pcbpt", "-i", "cornell", "-p", "resolution=8",
+                                "-n", "2", "-r", "4", "--reference-cache", references], 0, False),
             # Interrupted during the first of two long runs: both not_run, exit 130.
             ("f-interrupted", ["run", "-e", "plain", "-i", "genz-gaussian,genz-oscillatory",
                                "-n", "100000000", "-r", "8"], 130, True),
@@ -368,6 +378,13 @@ def main():
             reports[name] = report
 
     # --- per-case expectations -----------------------------------------------------------------
+    cached = reports.get("n-scene-cached")
+    if cached:
+        images = [run["image"] for run in cached["runs"]]
+        check(all(i["reference"] == "cache" and i["reference_cache"]["samples_per_pixel"] == 8
+                  and i["reference_rel_variance"] > 0 for i in images),
+              "n-scene-cached: errors against the cached image, with its provenance and variance")
+
     a = reports.get("a-one-run")
     if a:
         run = a["runs"][0]

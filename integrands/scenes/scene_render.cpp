@@ -311,6 +311,14 @@ class Renderer {
 
 }  // namespace
 
+bool samples_all_paths(Method method, const Scene& scene) {
+  if (method == Method::kPathTracing) {
+    return !(scene.traits().has_point_lights && scene.traits().has_specular);
+  }
+  if (method == Method::kLightTracing) return !scene.traits().has_specular;
+  return true;
+}
+
 StrategyCounts strategy_counts(const RenderConfig& config, const Scene& scene) {
   const double pool = pool_size(config, scene);
   switch (config.method) {

@@ -61,6 +61,11 @@ struct RenderConfig {
   SceneFlaw flaw = SceneFlaw::kNone;
 };
 
+// Whether `method` samples every light-carrying path of `scene`: path tracing misses point light
+// → mirror paths (no emitter to hit, no diffuse vertex to connect at); light tracing misses
+// camera → mirror paths. Such an image is never a reference for the paths it cannot sample.
+bool samples_all_paths(Method method, const Scene& scene);
+
 // The strategy counts the MIS weights of `config` use (connection.h).
 StrategyCounts strategy_counts(const RenderConfig& config, const Scene& scene);
 
