@@ -51,7 +51,9 @@ struct Iteration {
   // pcbpt: per tile, P over `vertices` and its sampler.
   std::vector<std::vector<double>> tile_pmf;
   std::vector<DiscreteSampler> tile_sampler;
-  std::vector<bool> tile_has_draws;
+  // One byte per tile, not std::vector<bool>: tiles are built in parallel, and the bits of a
+  // vector<bool> share words, so two tiles' writes would race and one could be lost.
+  std::vector<std::uint8_t> tile_has_draws;
 };
 
 class Renderer {
@@ -266,7 +268,7 @@ class Renderer {
     const std::uint32_t n = static_cast<std::uint32_t>(it.vertices.size());
     it.tile_pmf.assign(tiles, {});
     it.tile_sampler.assign(tiles, {});
-    it.tile_has_draws.assign(tiles, false);
+    it.tile_has_draws.assign(tiles, 0);
     if (n == 0) return;
     const bool visible_only = config_.flaw == SceneFlaw::kVisibleOnlyImportance;
     const ResamplingStep step(StepConfig{.M = n,
@@ -294,7 +296,7 @@ class Renderer {
       if (visible_only && total == 0.0) return;
       step.build_pmf(PoolView{.importance = importance}, it.tile_pmf[tile]);
       it.tile_sampler[tile].build(it.tile_pmf[tile], DiscreteSamplerKind::kAlias);
-      it.tile_has_draws[tile] = true;
+      it.tile_has_draws[tile] = 1;
     });
     for (const TraceCounters& c : tile_counters) counters.add(c);
   }
