@@ -18,6 +18,7 @@ RunPlan choose_samples(const RunPlan& plan, const RunnerOptions& options,
                        ProgressReporter& progress) {
   RunPlan pilot = with_samples(plan, kPilotSamples);
   pilot.replicates = 2;
+  pilot.pilot = true;
   assign_id(pilot);
   const RunResult result =
       execute_run(pilot, {.seed = options.seed, .interrupted = options.interrupted});

@@ -153,6 +153,7 @@ void assign_id(RunPlan& plan) {
   for (const auto& [key, value] : plan.integrand_params.values()) effective[key] = to_text(value);
   // No parameter name starts with '@': the budget cannot collide with a parameter.
   if (plan.seconds) effective["@seconds"] = fmt::format("{}", *plan.seconds);
+  if (plan.pilot) effective["@pilot"] = "yes";
   plan.id_hash = run_id_hash(plan.estimator->name, plan.integrand->name, effective, plan.samples,
                              plan.replicates);
   plan.id = fmt::format("{:016x}", plan.id_hash);

@@ -75,6 +75,9 @@ struct RunPlan {
   // the run then takes a fixed N from it (never stopping on a clock mid-way, which would bias
   // estimators whose cost correlates with their value).
   std::optional<double> seconds;
+  // An equal-time pilot: its id differs from every real run's, so that it never takes the
+  // numbers of the run it measures (a pilot of 2 replicates × N would otherwise be that run).
+  bool pilot = false;
   std::uint64_t pilot_samples = 0;                  // per pilot replicate (2 replicates)
   double pilot_cpu_per_sample = 0.0;                // what the pilot measured
   std::optional<std::string> expect;                // unset: "consistent" if there is a reference

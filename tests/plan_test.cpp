@@ -226,6 +226,20 @@ TEST(PlanId, HashDependsOnEveryComponent) {
             run_id_hash("a", "b", {{"M1", "4"}}, 100, 8));
 }
 
+// A pilot of 2 replicates × N samples is not the run of 2 replicates × N: it must not take (and
+// so correlate with) the numbers of the run whose sample count it chooses.
+TEST(PlanId, APilotNeverHasTheIdOfARun) {
+  GridRequest two = row("genz-gaussian");
+  two.samples = 8192;
+  two.replicates = 2;
+  const RunPlan run = plan_runs({two}, {}).at(0);
+  RunPlan pilot = run;
+  pilot.pilot = true;
+  assign_id(pilot);
+  EXPECT_NE(pilot.id_hash, run.id_hash);
+  EXPECT_NE(pilot.id, run.id);
+}
+
 TEST(PlanId, DoesNotDependOnRowOrder) {
   const GridRequest a = row("genz-gaussian", {{"sharpness", {"2"}}});
   const GridRequest b = row("genz-oscillatory", {{"center", {"0.1"}}});
