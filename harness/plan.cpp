@@ -256,11 +256,6 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
           fmt::format("{}: {} × {}", grid.where, row.estimator->name, row.integrand->name);
       try {
         if (scene) {
-          if (plan.seconds) {
-            throw InputError(
-                "an equal-time budget (seconds) is not available for scenes yet; "
-                "give samples per pixel");
-          }
           plan.render = row.estimator->make_render(plan.estimator_params);
         } else {
           plan.made_estimator = row.estimator->make(plan.estimator_params);

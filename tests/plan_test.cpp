@@ -349,6 +349,22 @@ TEST(PlanBudget, SamplesAboveTheCounterLimitAreRejected) {
   EXPECT_TRUE(contains(plan_error({huge}), "out of range"));
 }
 
+// A scene takes an equal-time budget as an analytic integrand does (its pilot chooses the
+// samples per pixel), within the same range.
+TEST(PlanBudget, AScenePlansSecondsWithinTheirRange) {
+  GridRequest scene = grid({"pt"}, {"furnace"}, {{"resolution", {"8"}}});
+  scene.seconds = 0.5;
+  const RunPlan plan = plan_runs({scene}, {}).at(0);
+  ASSERT_TRUE(plan.seconds.has_value());
+  EXPECT_EQ(*plan.seconds, 0.5);
+  EXPECT_EQ(plan.samples, 0u);  // until the pilot chooses
+  EXPECT_TRUE(plan.render.has_value());
+  for (const double bad : {0.0, -1.0, 2 * kMaxSecondsPerReplicate}) {
+    scene.seconds = bad;
+    EXPECT_TRUE(contains(plan_error({scene}), "out of range")) << bad;
+  }
+}
+
 TEST(PlanBudget, FewerThanTwoReplicatesAreRejected) {
   for (std::uint32_t replicates : {0u, 1u}) {
     GridRequest r = row("genz-gaussian", {}, "where");
