@@ -141,6 +141,7 @@ void assign_id(RunPlan& plan) {
   for (const auto& [key, value] : plan.integrand_params.values()) effective[key] = to_text(value);
   // No parameter name starts with '@': the budget cannot collide with a parameter.
   if (plan.seconds) effective["@seconds"] = fmt::format("{}", *plan.seconds);
+  if (plan.pilot) effective["@pilot"] = "yes";
   plan.id_hash = run_id_hash(plan.estimator->name, plan.integrand->name, effective, plan.samples,
                              plan.replicates);
   plan.id = fmt::format("{:016x}", plan.id_hash);
@@ -243,11 +244,6 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
           fmt::format("{}: {} × {}", grid.where, row.estimator->name, row.integrand->name);
       try {
         if (scene) {
-          if (plan.seconds) {
-            throw InputError(
-                "an equal-time budget (seconds) is not available for scenes yet; "
-                "give samples per pixel");
-          }
           plan.render = row.estimator->make_render(plan.estimator_params);
         } else {
           plan.made_estimator = row.estimator->make(plan.estimator_params);

@@ -53,7 +53,7 @@ struct BudgetDefaults {
   std::optional<double> forced_seconds = {};
 };
 
-// An equal-time budget is at most this many thread CPU seconds per replicate.
+// An equal-time budget is at most this many CPU seconds per replicate.
 inline constexpr double kMaxSecondsPerReplicate = 1e6;
 
 struct RunPlan {
@@ -71,10 +71,15 @@ struct RunPlan {
   ResolvedParams integrand_params;
   std::uint64_t samples = 0;  // 0 for an equal-time run until its pilot has chosen N
   std::uint32_t replicates = 0;
-  // Equal time: thread CPU seconds per replicate. A short pilot measures the cost per sample;
-  // the run then takes a fixed N from it (never stopping on a clock mid-way, which would bias
-  // estimators whose cost correlates with their value).
+  // Equal time: CPU seconds per replicate (an analytic replicate's thread CPU summed over its
+  // chunks, a scene replicate's process CPU: all threads either way; harness/equal_time.h). A
+  // short pilot measures the cost per sample (per pixel, for a scene); the run then takes a
+  // fixed N from it (never stopping on a clock mid-way, which would bias estimators whose cost
+  // correlates with their value).
   std::optional<double> seconds;
+  // An equal-time pilot: its id differs from every real run's, so that it never takes the
+  // numbers of the run it measures (a pilot of 2 replicates × N would otherwise be that run).
+  bool pilot = false;
   std::uint64_t pilot_samples = 0;                  // per pilot replicate (2 replicates)
   double pilot_cpu_per_sample = 0.0;                // what the pilot measured
   std::optional<std::string> expect;                // unset: "consistent" if there is a reference

@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "harness/equal_time.h"
 #include "harness/interleaved_runs.h"
 #include "harness/progress.h"
 #include "harness/replay.h"
@@ -233,44 +234,6 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, R
   return record;
 }
 
-// An equal-time run's sample count: a pilot of 2 replicates × kPilotSamples measures the thread
-// CPU seconds per sample; N = seconds / that, in whole batches, at least 1024.
-constexpr std::uint64_t kPilotSamples = 8192;
-
-RunPlan choose_samples(const RunPlan& plan, const SessionOptions& options,
-                       ProgressReporter& progress) {
-  RunPlan pilot = with_samples(plan, kPilotSamples);
-  pilot.replicates = 2;
-  assign_id(pilot);
-  const RunResult result =
-      execute_run(pilot, {.seed = options.seed, .interrupted = options.interrupted});
-  double cpu = 0.0;
-  for (const ReplicateResult& rep : result.replicates) cpu += rep.cpu_seconds;
-  const double per_sample = cpu / static_cast<double>(2 * kPilotSamples);
-  std::uint64_t samples = 1024;
-  if (result.status == RunStatus::kOk && per_sample > 0.0) {
-    const double batches = std::floor(*plan.seconds / per_sample / kBatchSize);
-    samples = static_cast<std::uint64_t>(
-        std::clamp(batches * kBatchSize, 1024.0, static_cast<double>(kMaxSamples)));
-  }
-  progress.message(fmt::format("pilot {} × {}: {:.3g} µs per sample -> {} samples for {} s",
-                               plan.estimator->name, plan.integrand->name, 1e6 * per_sample,
-                               samples, *plan.seconds));
-  RunPlan chosen = with_chosen_samples(plan, samples);
-  chosen.pilot_samples = kPilotSamples;
-  chosen.pilot_cpu_per_sample = per_sample;
-  return chosen;
-}
-
-// An equal-time run restored from the journal: the sample count its pilot chose then (a new
-// pilot would measure another machine load, hence another N and other numbers).
-RunPlan restored_choice(const RunPlan& plan, const SavedRun& saved) {
-  RunPlan chosen = with_chosen_samples(plan, saved.samples);
-  chosen.pilot_samples = saved.pilot_samples;
-  chosen.pilot_cpu_per_sample = saved.pilot_cpu_per_sample;
-  return chosen;
-}
-
 // Worth more samples: a test that was not rejected but came close, or a run that had too few
 // effective samples to be tested (a heavy tail stays heavy with more samples: not escalated).
 bool wants_escalation(const RunRecord& record) {
@@ -361,7 +324,8 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
       chosen_plans.push_back(restored_choice(plan, *saved));
       to_run.back() = &chosen_plans.back();
     } else if (!(options.interrupted != nullptr && options.interrupted->load())) {
-      chosen_plans.push_back(choose_samples(plan, options, *progress));
+      chosen_plans.push_back(choose_samples(
+          plan, {.seed = options.seed, .interrupted = options.interrupted}, *progress));
       to_run.back() = &chosen_plans.back();
       // The pilot's choice replaces the planned count in the time left.
       progress->add_work(

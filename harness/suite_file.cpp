@@ -147,7 +147,7 @@ class SuiteParser {
     return out;
   }
 
-  // An equal-time budget ("seconds": thread CPU seconds per replicate), exclusive with
+  // An equal-time budget ("seconds": CPU seconds per replicate), exclusive with
   // "samples" in the same object.
   std::optional<double> seconds_at(const Json& object, const std::string& pointer) const {
     if (!object.contains("seconds")) return std::nullopt;

@@ -94,6 +94,8 @@ TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
              "materials": {"white": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
              "shapes": [{"type": "quad", "material": "white",
                          "corners": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]}]})";
+  std::ofstream("scene_seconds.json")
+      << R"({"runs": [{"estimator": "pt", "integrand": "furnace", "seconds": 0}]})";
   std::ofstream("truncated.json") << R"({"runs": [{"estimator": "plain", "integ)";
   // JSON has no NaN: a coordinate beyond the double range is the nearest a file gets to one.
   const char* scene_head = R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]},
@@ -124,7 +126,11 @@ TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
       {{"run", "-e", "pcbpt", "-i", "cornell", "-p", "K=0"}, "out of range"},
       {{"run", "-e", "pcbpt", "-i", "cornell", "-p", "uniform_mix=2"}, "out of range"},
       {{"run", "-e", "pcbpt", "-i", "cornell", "-p", "importance=f"}, "read by no estimator"},
-      {{"run", "-e", "plain", "-i", "cornell", "--seconds", "1"}, "not available for scenes"},
+      {{"run", "-e", "plain", "-i", "furnace", "--seconds", "0"},
+       "--seconds: Value 0 not in range"},
+      {{"run", "-e", "pt", "-i", "cornell", "--seconds", "2e6"},
+       "--seconds: Value 2e6 not in range"},
+      {{"run", "scene_seconds.json"}, "/runs/0/seconds: must be a number of seconds in (0, 1e+06]"},
       {{"run", "-e", "plain", "-i", "missing.scene.json"}, "missing.scene.json"},
       {{"run", "-e", "plain", "-i", "no_emitter.scene.json"}, "emitter"},
       {{"run", "-e", "plain", "-i", "cornel"}, "valid integrands"},

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "harness/cli.h"
+#include "harness/plan.h"
 #include "test_support.h"
 
 namespace pcbench {
@@ -173,6 +174,48 @@ TEST_F(CliVerify, EqualTimeBudgetReplaysWithTheChosenSampleCount) {
   std::ofstream(at("both.json"))
       << R"({"runs": [{"estimator": "plain", "integrand": "blocker", "samples": 5, "seconds": 1}]})";
   EXPECT_EQ(cli({"run", at("both.json")}).status, 2);
+}
+
+// Equal time on a scene: the pilot renders the whole image at 2 samples per pixel, the run takes
+// N ≥ 1 samples per pixel from it, and `--samples N` replays the same images bit for bit. N
+// depends on the machine's speed: only its bounds are asserted.
+TEST_F(CliVerify, EqualTimeSceneBudgetReplaysWithTheChosenSamplesPerPixel) {
+  const std::vector<std::string> scene = {"run",           "-e", "pt", "-i", "furnace", "-p",
+                                          "resolution=16", "-r", "3"};
+  std::vector<std::string> timed_args = scene;
+  for (const char* a : {"--seconds", "0.02", "--out"}) timed_args.emplace_back(a);
+  timed_args.push_back(at("timed"));
+  const Result timed_run = cli(timed_args);
+  ASSERT_TRUE(timed_run.status == 0 || timed_run.status == 1) << timed_run.err;
+  EXPECT_NE(timed_run.err.find("µs per sample per pixel -> "), std::string::npos) << timed_run.err;
+  EXPECT_NE(timed_run.err.find(" samples per pixel for 0.02 s"), std::string::npos)
+      << timed_run.err;
+  const auto timed = report("timed")["runs"][0];
+  EXPECT_EQ(timed["status"], "ok");
+  EXPECT_EQ(timed["budget"]["seconds"], 0.02);
+  EXPECT_EQ(timed["budget"]["pilot_samples"], 2);
+  EXPECT_GT(timed["budget"]["pilot_cpu_seconds_per_sample"].get<double>(), 0.0);
+  const std::uint64_t n = timed["samples"].get<std::uint64_t>();
+  EXPECT_GE(n, 1u);
+  EXPECT_LE(n, kMaxSamples);
+
+  std::vector<std::string> replay_args = scene;
+  for (const char* a : {"-q", "--samples"}) replay_args.emplace_back(a);
+  replay_args.push_back(std::to_string(n));
+  replay_args.push_back("--out");
+  replay_args.push_back(at("replay"));
+  ASSERT_EQ(cli(replay_args).status, timed_run.status);
+  const auto replay = report("replay")["runs"][0];
+  EXPECT_NE(replay["id"], timed["id"]);
+  EXPECT_EQ(replay["budget"]["pilot_samples"], 0);
+  ASSERT_EQ(replay["replicates"].size(), 3u);
+  for (std::size_t r = 0; r < 3; ++r) {
+    EXPECT_EQ(replay["replicates"][r]["estimate"], timed["replicates"][r]["estimate"]) << r;
+  }
+  const auto image_of = [&](const std::string& name, const nlohmann::json& run) {
+    return read_text(fs::path(at(name)) / run["image"]["files"]["mean"].get<std::string>());
+  };
+  EXPECT_EQ(image_of("replay", replay), image_of("timed", timed));
 }
 
 }  // namespace

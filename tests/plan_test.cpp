@@ -226,6 +226,20 @@ TEST(PlanId, HashDependsOnEveryComponent) {
             run_id_hash("a", "b", {{"M1", "4"}}, 100, 8));
 }
 
+// A pilot of 2 replicates × N samples is not the run of 2 replicates × N: it must not take (and
+// so correlate with) the numbers of the run whose sample count it chooses.
+TEST(PlanId, APilotNeverHasTheIdOfARun) {
+  GridRequest two = row("genz-gaussian");
+  two.samples = 8192;
+  two.replicates = 2;
+  const RunPlan run = plan_runs({two}, {}).at(0);
+  RunPlan pilot = run;
+  pilot.pilot = true;
+  assign_id(pilot);
+  EXPECT_NE(pilot.id_hash, run.id_hash);
+  EXPECT_NE(pilot.id, run.id);
+}
+
 TEST(PlanId, DoesNotDependOnRowOrder) {
   const GridRequest a = row("genz-gaussian", {{"sharpness", {"2"}}});
   const GridRequest b = row("genz-oscillatory", {{"center", {"0.1"}}});
@@ -333,6 +347,22 @@ TEST(PlanBudget, SamplesAboveTheCounterLimitAreRejected) {
   GridRequest huge = row("genz-gaussian");
   huge.samples = kMaxSamples + 1;
   EXPECT_TRUE(contains(plan_error({huge}), "out of range"));
+}
+
+// A scene takes an equal-time budget as an analytic integrand does (its pilot chooses the
+// samples per pixel), within the same range.
+TEST(PlanBudget, AScenePlansSecondsWithinTheirRange) {
+  GridRequest scene = grid({"pt"}, {"furnace"}, {{"resolution", {"8"}}});
+  scene.seconds = 0.5;
+  const RunPlan plan = plan_runs({scene}, {}).at(0);
+  ASSERT_TRUE(plan.seconds.has_value());
+  EXPECT_EQ(*plan.seconds, 0.5);
+  EXPECT_EQ(plan.samples, 0u);  // until the pilot chooses
+  EXPECT_TRUE(plan.render.has_value());
+  for (const double bad : {0.0, -1.0, 2 * kMaxSecondsPerReplicate}) {
+    scene.seconds = bad;
+    EXPECT_TRUE(contains(plan_error({scene}), "out of range")) << bad;
+  }
 }
 
 TEST(PlanBudget, FewerThanTwoReplicatesAreRejected) {
