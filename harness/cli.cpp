@@ -39,6 +39,7 @@ struct RunArguments {
   std::string out_dir;
   bool quiet = false;
   bool interleave = false;
+  bool strategy_images = false;
   bool resume = false;
   // verify only
   bool verify = false;
@@ -168,6 +169,7 @@ SessionOptions session_options(const RunArguments& args, const std::vector<std::
   session.alpha = args.alpha;
   session.escalate = args.verify;
   session.interleave = args.interleave;
+  session.strategy_images = args.strategy_images;
   if (!args.out_dir.empty()) session.out_dir = args.out_dir;
   return session;
 }
@@ -221,6 +223,7 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     if (suite.seed && run_app.count("--seed") == 0) session.seed = *suite.seed;
     session.compare_pairwise = suite.compare_pairwise;
     session.interleave = session.interleave || suite.interleave;
+    session.strategy_images = session.strategy_images || suite.strategy_images;
   } else {
     grids = grids_from_flags(args);
   }
@@ -292,6 +295,9 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_flag("--interleave", args.interleave,
                 "runs on one integrand take their replicates in turn; prints their efficiency "
                 "ratios with intervals");
+  app->add_flag("--strategy-images", args.strategy_images,
+                "scene runs also write images/<id>_strategies.exr: the mean image of each (s, t) "
+                "connection strategy, one layer each, and their shares of the image");
   app->add_flag(
       "--resume", args.resume,
       "with --out DIR of an interrupted session: restore its finished runs, run the rest");

@@ -9,6 +9,7 @@
 #include <span>
 
 #include "harness/image_statistics.h"
+#include "harness/strategy_image_file.h"
 #include "integrands/scenes/scene_integrand.h"
 #include "results/exr_file.h"
 
@@ -172,7 +173,8 @@ std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
 
 namespace {
 
-// A run's image file of one kind (mean, stderr, zmap, reference), relative to the report folder.
+// A run's image file of one kind (mean, stderr, zmap, reference, strategies), relative to the
+// report folder.
 std::string image_file(const std::string& run_id, const char* kind) {
   return fmt::format("images/{}_{}.exr", run_id, kind);
 }
@@ -280,6 +282,12 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder)
       // Relative MSE of one CPU second's worth of this estimator (error × cost: equal time).
       image["rel_mse_at_1_cpu_second"] = rel_replicate * cpu;
       image["efficiency"] = rel_replicate * cpu > 0.0 ? 1.0 / (rel_replicate * cpu) : 0.0;
+    }
+    if (r.result.strategy_images) {
+      const std::string name = image_file(stem, "strategies");
+      write_strategy_exr(folder / name, *r.result.strategy_images);
+      files["strategies"] = name;
+      image["strategies"] = strategy_shares_json(*r.result.strategy_images, s.mean);
     }
     image["files"] = files;
     r.image = std::move(image);

@@ -19,7 +19,8 @@ namespace pcbench {
 std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
     const std::vector<RunRecord>& records, double alpha);
 
-// Writes each scene run's EXR files under folder/images/ and fills its `image` section.
+// Writes each scene run's EXR files under folder/images/ (with its strategy images where the run
+// gathered them: harness/strategy_image_file.h) and fills its `image` section.
 void write_scene_images(std::vector<RunRecord>& records, const std::filesystem::path& folder);
 
 }  // namespace pcbench
