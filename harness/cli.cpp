@@ -40,6 +40,7 @@ struct RunArguments {
   std::string out_dir;
   bool quiet = false;
   bool interleave = false;
+  bool strategy_images = false;
   bool resume = false;
   std::string reference_cache = kDefaultReferenceCache;
   // verify only
@@ -171,6 +172,7 @@ SessionOptions session_options(const RunArguments& args, const std::vector<std::
   session.escalate = args.verify;
   session.interleave = args.interleave;
   session.reference_cache = args.reference_cache;
+  session.strategy_images = args.strategy_images;
   if (!args.out_dir.empty()) session.out_dir = args.out_dir;
   return session;
 }
@@ -224,6 +226,7 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     if (suite.seed && run_app.count("--seed") == 0) session.seed = *suite.seed;
     session.compare_pairwise = suite.compare_pairwise;
     session.interleave = session.interleave || suite.interleave;
+    session.strategy_images = session.strategy_images || suite.strategy_images;
   } else {
     grids = grids_from_flags(args);
   }
@@ -300,6 +303,9 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_flag("--interleave", args.interleave,
                 "runs on one integrand take their replicates in turn; prints their efficiency "
                 "ratios with intervals");
+  app->add_flag("--strategy-images", args.strategy_images,
+                "scene runs also write images/<id>_strategies.exr: the mean image of each (s, t) "
+                "connection strategy, one layer each, and their shares of the image");
   app->add_flag(
       "--resume", args.resume,
       "with --out DIR of an interrupted session: restore its finished runs, run the rest");

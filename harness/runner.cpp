@@ -115,6 +115,7 @@ void append_part(RunResult& run, RunResult&& part) {
   run.counters.add(part.counters);
   for (auto& rep : part.replicates) run.replicates.push_back(std::move(rep));
   for (auto& image : part.images) run.images.push_back(std::move(image));
+  add_strategy_images(run.strategy_images, std::move(part.strategy_images));
   for (const auto& counter : part.scene_counters) {
     const std::string& name = counter.first;
     const std::uint64_t count = counter.second;

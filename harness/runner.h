@@ -14,6 +14,7 @@
 #include "harness/plan.h"
 #include "integrands/integrand.h"
 #include "results/image.h"
+#include "results/strategy_images.h"
 
 namespace pcbench {
 
@@ -70,6 +71,8 @@ struct RunResult {
   // occluded or skipped and why) by name.
   std::vector<Image> images = {};
   std::vector<std::pair<std::string, std::uint64_t>> scene_counters = {};
+  // Scenes with RunnerOptions::strategy_images: the replicates' images split by strategy.
+  std::optional<StrategyImages> strategy_images = {};
 };
 
 struct RunnerOptions {
@@ -82,6 +85,9 @@ struct RunnerOptions {
   // its index, so a run taken in parts is the run taken whole.
   std::uint32_t first_replicate = 0;
   std::uint32_t replicate_count = 0;
+  // Scenes: also gather each (s, t) strategy's image (`--strategy-images`; costs a buffer per
+  // strategy). The run's numbers are the same either way.
+  bool strategy_images = false;
 };
 
 // The chunk (unit of parallel work, a multiple of kBatchSize) for N samples.

@@ -101,14 +101,43 @@ ReplicateResult read_replicate(const nlohmann::json& j) {
   return r;
 }
 
+Json image_json(const Image& image) {
+  return {{"width", image.width}, {"height", image.height}, {"values", numbers_json(image.values)}};
+}
+
+Image read_image(const nlohmann::json& j) {
+  Image restored(j.at("width").get<std::uint32_t>(), j.at("height").get<std::uint32_t>());
+  restored.values = read_numbers(j.at("values"));
+  if (restored.values.size() != restored.pixel_count() * kImageChannels) {
+    throw std::runtime_error("an image's values do not match its width and height");
+  }
+  return restored;
+}
+
+Json strategy_images_json(const StrategyImages& images) {
+  Json layers = Json::array();
+  for (const StrategyLayer& layer : images.layers) {
+    layers.push_back({{"s", layer.s}, {"t", layer.t}, {"image", image_json(layer.image)}});
+  }
+  return Json{{"replicates", images.replicates}, {"layers", layers}};
+}
+
+StrategyImages read_strategy_images(const nlohmann::json& j) {
+  StrategyImages images;
+  images.replicates = j.at("replicates").get<std::uint32_t>();
+  for (const auto& layer : j.at("layers")) {
+    images.layers.push_back({.s = layer.at("s").get<std::uint32_t>(),
+                             .t = layer.at("t").get<std::uint32_t>(),
+                             .image = read_image(layer.at("image"))});
+  }
+  return images;
+}
+
 Json result_json(const RunResult& r) {
   Json replicates = Json::array();
   for (const ReplicateResult& rep : r.replicates) replicates.push_back(replicate_json(rep));
   Json images = Json::array();
-  for (const Image& image : r.images) {
-    images.push_back(
-        {{"width", image.width}, {"height", image.height}, {"values", numbers_json(image.values)}});
-  }
+  for (const Image& image : r.images) images.push_back(image_json(image));
   Json scene_counters = Json::array();
   for (const auto& [name, count] : r.scene_counters) scene_counters.push_back({name, count});
   Json first_nonfinite = nullptr;
@@ -117,25 +146,28 @@ Json result_json(const RunResult& r) {
                        {"replicate", r.first_nonfinite->replicate},
                        {"sample", r.first_nonfinite->sample}};
   }
-  return Json{{"status", to_string(r.status)},
-              {"error", r.error},
-              {"reference",
-               {{"value", exact_number(r.reference.value)},
-                {"kind", to_string(r.reference.kind)},
-                {"uncertainty", exact_number(r.reference.uncertainty)},
-                {"dof", exact_number(r.reference.dof)},
-                {"magnitude", exact_number(r.reference.magnitude)}}},
-              {"counters",
-               {{"camera_paths", r.counters.camera_paths},
-                {"light_paths", r.counters.light_paths},
-                {"connections", r.counters.connections},
-                {"importance_evaluations", r.counters.importance_evaluations}}},
-              {"wall_seconds", exact_number(r.wall_seconds)},
-              {"first_nonfinite", first_nonfinite},
-              {"independent_samples", r.independent_samples},
-              {"replicates", replicates},
-              {"images", images},
-              {"scene_counters", scene_counters}};
+  Json out{{"status", to_string(r.status)},
+           {"error", r.error},
+           {"reference",
+            {{"value", exact_number(r.reference.value)},
+             {"kind", to_string(r.reference.kind)},
+             {"uncertainty", exact_number(r.reference.uncertainty)},
+             {"dof", exact_number(r.reference.dof)},
+             {"magnitude", exact_number(r.reference.magnitude)}}},
+           {"counters",
+            {{"camera_paths", r.counters.camera_paths},
+             {"light_paths", r.counters.light_paths},
+             {"connections", r.counters.connections},
+             {"importance_evaluations", r.counters.importance_evaluations}}},
+           {"wall_seconds", exact_number(r.wall_seconds)},
+           {"first_nonfinite", first_nonfinite},
+           {"independent_samples", r.independent_samples},
+           {"replicates", replicates},
+           {"images", images},
+           {"scene_counters", scene_counters}};
+  // Only a run that gathered them has the key: journals without it read as before.
+  if (r.strategy_images) out["strategy_images"] = strategy_images_json(*r.strategy_images);
+  return out;
 }
 
 RunResult read_result(const nlohmann::json& j) {
@@ -161,13 +193,9 @@ RunResult read_result(const nlohmann::json& j) {
   }
   r.independent_samples = j.at("independent_samples").get<bool>();
   for (const auto& rep : j.at("replicates")) r.replicates.push_back(read_replicate(rep));
-  for (const auto& image : j.at("images")) {
-    Image restored(image.at("width").get<std::uint32_t>(), image.at("height").get<std::uint32_t>());
-    restored.values = read_numbers(image.at("values"));
-    if (restored.values.size() != restored.pixel_count() * kImageChannels) {
-      throw std::runtime_error("an image's values do not match its width and height");
-    }
-    r.images.push_back(std::move(restored));
+  for (const auto& image : j.at("images")) r.images.push_back(read_image(image));
+  if (j.contains("strategy_images")) {
+    r.strategy_images = read_strategy_images(j.at("strategy_images"));
   }
   for (const auto& counter : j.at("scene_counters")) {
     r.scene_counters.emplace_back(counter.at(0).get<std::string>(),

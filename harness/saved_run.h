@@ -1,6 +1,6 @@
 // A finished run as saved for `--resume`: everything the session tests and reports from (the
-// RunResult, down to the tail buffers, series checkpoints and scene images) plus the budget an
-// equal-time pilot chose, in a JSON form that reads back bit for bit.
+// RunResult, down to the tail buffers, series checkpoints, scene images and strategy images)
+// plus the budget an equal-time pilot chose, in a JSON form that reads back bit for bit.
 //
 // Numbers are written in the shortest form that reads back to the same double; the non-finite
 // ones JSON cannot hold are written as the strings "nan", "inf" and "-inf". A restored run is

@@ -52,9 +52,9 @@ RunResult execute_scene_run(const RunPlan& plan, const RunnerOptions& options) {
     };
     const auto [first_replicate, end_replicate] = replicate_range(plan, options);
     for (std::uint32_t r = first_replicate; r < end_replicate; ++r) {
-      scene::ReplicateImage rendered =
-          scene::render_replicate(integrand.scene(), *plan.render, key, r,
-                                  static_cast<std::uint32_t>(plan.samples), options.interrupted);
+      scene::ReplicateImage rendered = scene::render_replicate(
+          integrand.scene(), *plan.render, key, r, static_cast<std::uint32_t>(plan.samples),
+          options.interrupted, options.strategy_images);
       // A replicate cut short is no replicate: the run is reported as not run.
       if (interrupted()) {
         result.status = RunStatus::kNotRun;
@@ -71,6 +71,7 @@ RunResult execute_scene_run(const RunPlan& plan, const RunnerOptions& options) {
       if (options.samples_done != nullptr) options.samples_done->fetch_add(plan.samples);
       result.replicates.push_back(std::move(rep));
       result.images.push_back(std::move(rendered.image));
+      add_strategy_images(result.strategy_images, std::move(rendered.strategies));
     }
   } catch (const std::exception& e) {
     result.status = RunStatus::kError;

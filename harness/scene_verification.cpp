@@ -10,6 +10,7 @@
 
 #include "harness/image_errors.h"
 #include "harness/image_statistics.h"
+#include "harness/strategy_image_file.h"
 #include "integrands/scenes/scene_integrand.h"
 #include "results/exr_file.h"
 
@@ -165,7 +166,8 @@ struct CachedCopy {
   std::string file;
 };
 
-// A run's image file of one kind (mean, stderr, zmap, reference), relative to the report folder.
+// A run's image file of one kind (mean, stderr, zmap, reference, strategies), relative to the
+// report folder.
 std::string image_file(const std::string& run_id, const char* kind) {
   return fmt::format("images/{}_{}.exr", run_id, kind);
 }
@@ -272,6 +274,12 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder,
     if (reference) {
       image.update(image_error_fields(r.result.images, r.result.replicates, s.mean, *reference,
                                       reference_stderr));
+    }
+    if (r.result.strategy_images) {
+      const std::string name = image_file(stem, "strategies");
+      write_strategy_exr(folder / name, *r.result.strategy_images);
+      files["strategies"] = name;
+      image["strategies"] = strategy_shares_json(*r.result.strategy_images, s.mean);
     }
     image["files"] = files;
     r.image = std::move(image);

@@ -21,10 +21,11 @@ namespace pcbench {
 std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
     const std::vector<RunRecord>& records, double alpha);
 
-// Writes each scene run's EXR files under folder/images/ and fills its `image` section. Its
-// errors are measured against the exact image, else the cache's converged image of the scene
-// (when `cache` is given and holds one; unreadable entries are reported on `warn`), else the
-// best-converged other honest run of the session.
+// Writes each scene run's EXR files under folder/images/ (with its strategy images where the run
+// gathered them: harness/strategy_image_file.h) and fills its `image` section. Its errors are
+// measured against the exact image, else the cache's converged image of the scene (when `cache`
+// is given and holds one; unreadable entries are reported on `warn`), else the best-converged
+// other honest run of the session.
 void write_scene_images(std::vector<RunRecord>& records, const std::filesystem::path& folder,
                         const ReferenceCache* cache, std::ostream& warn);
 

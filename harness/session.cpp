@@ -225,9 +225,10 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, R
   std::atomic<std::uint64_t>* samples_done =
       progress.run_started(fmt::format("{} × {}", plan.estimator->name, plan.integrand->name),
                            plan.samples * plan.replicates);
-  RunResult result = execute_run(
-      plan,
-      {.seed = options.seed, .interrupted = options.interrupted, .samples_done = samples_done});
+  RunResult result = execute_run(plan, {.seed = options.seed,
+                                        .interrupted = options.interrupted,
+                                        .samples_done = samples_done,
+                                        .strategy_images = options.strategy_images});
   if (result.status == RunStatus::kNotRun) interrupted = true;
   RunRecord record = finished_record(plan, std::move(result), options, store, progress, err);
   progress.run_finished(outcome_of(record));
@@ -338,8 +339,12 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     for (const RunPlan* plan : to_run) {
       if (store->find(plan->id) == nullptr) pending.push_back(plan);
     }
-    std::vector<RunResult> results = execute_interleaved(
-        pending, {.seed = options.seed, .interrupted = options.interrupted}, *progress);
+    std::vector<RunResult> results =
+        execute_interleaved(pending,
+                            {.seed = options.seed,
+                             .interrupted = options.interrupted,
+                             .strategy_images = options.strategy_images},
+                            *progress);
     std::size_t next = 0;
     for (const RunPlan* plan : to_run) {
       if (std::optional<RunRecord> restored = restored_record(*plan, *store, *progress)) {

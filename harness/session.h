@@ -49,6 +49,8 @@ struct SessionOptions {
   // Runs on one integrand take their replicates in turn (harness/interleaved_runs.h), so that
   // their efficiency ratios compare them under the same machine load.
   bool interleave = false;
+  // Scene runs also write the mean image of each (s, t) strategy (harness/strategy_image_file.h).
+  bool strategy_images = false;
   std::vector<std::string> argv;
   const std::atomic<bool>* interrupted = nullptr;
   // `--resume`: the interrupted session's journal, already checked against the plans. Its done

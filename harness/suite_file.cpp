@@ -45,7 +45,8 @@ class SuiteParser {
     }
     require_object(root, "");
     check_keys(root, "",
-               {"name", "description", "defaults", "runs", "grid", "compare", "interleave"});
+               {"name", "description", "defaults", "runs", "grid", "compare", "interleave",
+                "strategy_images"});
     SuiteRequest suite;
     suite.name = root.contains("name") ? string_at(root["name"], "/name") : "unnamed";
     if (root.contains("compare")) {
@@ -59,6 +60,12 @@ class SuiteParser {
     if (root.contains("interleave")) {
       if (!root["interleave"].is_boolean()) fail("/interleave", "must be true or false");
       suite.interleave = root["interleave"].get<bool>();
+    }
+    if (root.contains("strategy_images")) {
+      if (!root["strategy_images"].is_boolean()) {
+        fail("/strategy_images", "must be true or false");
+      }
+      suite.strategy_images = root["strategy_images"].get<bool>();
     }
     if (root.contains("defaults")) {
       const Json& defaults = root["defaults"];

@@ -1,7 +1,8 @@
 // Suite files (INTERFACE.md, "Suite file"):
 //   {"name", "description", "defaults": {"samples", "replicates", "seed"},
 //    "runs": [{"estimator", "integrand", "params": {..}, "samples", "replicates", "expect"}],
-//    "grid": [{"estimator": [..], "integrand": [..], "params": {"M": [..]}, ...}]}
+//    "grid": [{"estimator": [..], "integrand": [..], "params": {"M": [..]}, ...}],
+//    "compare", "interleave", "strategy_images"}
 // Errors name the file, the JSON pointer of the offending value and the valid keys.
 #pragma once
 
@@ -26,6 +27,8 @@ struct SuiteRequest {
   bool compare_pairwise = false;
   // "interleave": true: runs on one integrand take their replicates in turn (--interleave).
   bool interleave = false;
+  // "strategy_images": true: scene runs also write their per-strategy images (--strategy-images).
+  bool strategy_images = false;
 };
 
 SuiteRequest parse_suite(const std::string& text, const std::string& file_name);

@@ -75,12 +75,13 @@ void write_exr(const std::filesystem::path& path, std::uint32_t width, std::uint
   }
 }
 
-void write_exr_rgb(const std::filesystem::path& path, const Image& image) {
+std::vector<ExrChannel> rgb_channels(const Image& image, const std::string& layer) {
   const std::size_t count = image.pixel_count();
   if (image.values.size() != count * kImageChannels) {
     throw std::invalid_argument("Image has the wrong number of values for its size");
   }
-  std::vector<ExrChannel> channels = {{"R", {}}, {"G", {}}, {"B", {}}};
+  const std::string prefix = layer.empty() ? "" : layer + ".";
+  std::vector<ExrChannel> channels = {{prefix + "R", {}}, {prefix + "G", {}}, {prefix + "B", {}}};
   for (std::uint32_t c = 0; c < kImageChannels; ++c) {
     std::vector<float>& values = channels[c].values;
     values.resize(count);
@@ -88,7 +89,11 @@ void write_exr_rgb(const std::filesystem::path& path, const Image& image) {
       values[i] = static_cast<float>(image.values[i * kImageChannels + c]);
     }
   }
-  write_exr(path, image.width, image.height, channels);
+  return channels;
+}
+
+void write_exr_rgb(const std::filesystem::path& path, const Image& image) {
+  write_exr(path, image.width, image.height, rgb_channels(image));
 }
 
 std::vector<ExrChannel> read_exr(const std::filesystem::path& path, std::uint32_t& width,

@@ -27,6 +27,11 @@ struct ExrChannel {
 void write_exr(const std::filesystem::path& path, std::uint32_t width, std::uint32_t height,
                const std::vector<ExrChannel>& channels);
 
+// An Image's three channels (rounded to float) named R, G, B, or "<layer>.R", "<layer>.G",
+// "<layer>.B" for a layer of a multi-layer file (the OpenEXR naming convention tools show as
+// layers). Throws std::invalid_argument when the values do not match the image's size.
+std::vector<ExrChannel> rgb_channels(const Image& image, const std::string& layer = "");
+
 // An Image's three channels as R, G, B (rounded to float).
 void write_exr_rgb(const std::filesystem::path& path, const Image& image);
 

@@ -84,6 +84,26 @@ TEST(SavedRun, ASceneRunKeepsItsImages) {
   expect_round_trip(run);
 }
 
+TEST(SavedRun, ASceneRunKeepsItsStrategyImages) {
+  const RunPlan plan = plan_single("plain", "cornell", {{"resolution", {"8"}}}, 2, 2);
+  SavedRun run = saved(plan, 1);
+  EXPECT_FALSE(run.result.strategy_images.has_value());  // not asked for
+  run.result = execute_run(plan, {.seed = 1, .strategy_images = true});
+  ASSERT_TRUE(run.result.strategy_images.has_value());
+  expect_round_trip(run);
+  const SavedRun back = read_saved_run(saved_run_text(run));
+  ASSERT_TRUE(back.result.strategy_images.has_value());
+  const StrategyImages& a = *run.result.strategy_images;
+  const StrategyImages& b = *back.result.strategy_images;
+  EXPECT_EQ(b.replicates, a.replicates);
+  ASSERT_EQ(b.layers.size(), a.layers.size());
+  for (std::size_t i = 0; i < a.layers.size(); ++i) {
+    EXPECT_EQ(b.layers[i].s, a.layers[i].s);
+    EXPECT_EQ(b.layers[i].t, a.layers[i].t);
+    EXPECT_EQ(b.layers[i].image.values, a.layers[i].image.values);
+  }
+}
+
 TEST(SavedRun, SomethingElseIsRefused) {
   EXPECT_ANY_THROW(read_saved_run("{\"format\": \"pcbench-saved-run\", \"version\": 2}"));
   EXPECT_ANY_THROW(read_saved_run("not json"));

@@ -140,6 +140,19 @@ TEST(SuiteFileParse, UnknownTopLevelKeyNamesPointerAndValidKeys) {
   EXPECT_TRUE(contains(message, "valid keys: name, description, defaults, runs, grid")) << message;
 }
 
+TEST(SuiteFileParse, StrategyImagesIsABooleanOffByDefault) {
+  const std::string row = std::string(kGoodRow);
+  EXPECT_FALSE(parse_suite(suite_with_runs(row), "suite.json").strategy_images);
+  EXPECT_TRUE(parse_suite(R"({"strategy_images": true, "runs": [)" + row + "]}", "suite.json")
+                  .strategy_images);
+  for (const char* bad : {R"("yes")", "1", "null", "[true]"}) {
+    const std::string message =
+        suite_error(std::string(R"({"strategy_images": )") + bad + R"(, "runs": [)" + row + "]}");
+    EXPECT_TRUE(contains(message, "suite.json: /strategy_images: must be true or false"))
+        << bad << ": " << message;
+  }
+}
+
 TEST(SuiteFileParse, UnknownDefaultsKeyNamesPointerAndValidKeys) {
   const std::string message =
       suite_error(R"({"defaults": {"sample": 10}, "runs": [)" + std::string(kGoodRow) + "]}");

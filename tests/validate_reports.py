@@ -342,10 +342,12 @@ def main():
                            os.path.join(tmp, "d-cli-grid", "report.json")], 0, False),
             ("l-calibrate", ["calibrate", "-e", "plain", "--seeds", "50", "-n", "200", "-r", "4"],
              0, False),
-            # Scenes: image sections, tracing counters, tile comparisons (against the exact
-            # furnace, between estimators, the injected self-check) and a flagged control.
+            # Scenes: image sections (with the per-strategy images), tracing counters, tile
+            # comparisons (against the exact furnace, between estimators, the injected
+            # self-check) and a flagged control.
             ("m-scene", ["verify", "-e", "plain,pcbpt,ctl-scene-lvc-per-vertex", "-i",
-                         "furnace,cornell", "-p", "resolution=8", "-n", "4", "-r", "4"], 0, False),
+                         "furnace,cornell", "-p", "resolution=8", "-n", "4", "-r", "4",
+                         "--strategy-images"], 0, False),
             # Errors against the cached converged image: reference "cache" with its provenance.
             ("n-scene-cached", ["run", "-e", "plain,pcbpt", "-i", "cornell", "-p", "resolution=8",
                                 "-n", "2", "-r", "4", "--reference-cache", references], 0, False),
@@ -384,6 +386,15 @@ def main():
         check(all(i["reference"] == "cache" and i["reference_cache"]["samples_per_pixel"] == 8
                   and i["reference_rel_variance"] > 0 for i in images),
               "n-scene-cached: errors against the cached image, with its provenance and variance")
+    m = reports.get("m-scene")
+    if m:
+        imaged = [r for r in m["runs"] if r.get("image")]
+        check(imaged and all(r["image"]["files"].get("strategies") and r["image"]["strategies"]
+                             for r in imaged),
+              "m-scene: every run with images names its strategy file and lists its strategies")
+        check(all(abs(sum(x["share"] for x in r["image"]["strategies"]) - 1.0) < 1e-9
+                  for r in imaged),
+              "m-scene: each run's strategy shares sum to 1")
 
     a = reports.get("a-one-run")
     if a:
@@ -570,6 +581,12 @@ def main():
              assign(["runs", 0, "first_nonfinite"], None))
     rejected(b, "first_nonfinite.replay that is not a pcbench replay command",
              assign(["runs", 0, "first_nonfinite", "replay"], "rm -rf /"))
+    m_imaged = next((i for i, r in enumerate((m or {}).get("runs", [])) if r.get("image")), None)
+    if m_imaged is not None:
+        rejected(m, "a strategy without its light vertex count s",
+                 delete(["runs", m_imaged, "image", "strategies", 0, "s"]))
+        rejected(m, "a strategy layer name that is not s<s>_t<t>",
+                 assign(["runs", m_imaged, "image", "strategies", 0, "layer"], "bdpt"))
 
     # A well-formed comparison and image are accepted (they are not produced yet).
     if a:

@@ -9,6 +9,7 @@
 
 #include "estimators/discrete_sampler.h"
 #include "estimators/resampling_step.h"
+#include "integrands/scenes/strategy_tally.h"
 
 namespace pcbench::scene {
 namespace {
@@ -25,6 +26,7 @@ struct LightVertexRef {
 
 struct Splat {
   std::uint32_t pixel = 0;
+  std::uint32_t s = 0;  // light vertices of the splatted prefix (strategy (s, 1))
   Rgb value = {};
 };
 
@@ -58,8 +60,9 @@ struct Iteration {
 
 class Renderer {
  public:
+  // `strategies` (may be null) receives every contribution again, by strategy.
   Renderer(const Scene& scene, const RenderConfig& config, std::uint64_t key,
-           std::uint32_t replicate)
+           std::uint32_t replicate, StrategyTally* strategies)
       : scene_(scene),
         config_(config),
         key_(key),
@@ -69,7 +72,8 @@ class Renderer {
         height_(scene.description().height),
         max_length_(scene.description().max_length),
         tiles_x_((width_ + config.tile - 1) / config.tile),
-        tiles_y_((height_ + config.tile - 1) / config.tile) {
+        tiles_y_((height_ + config.tile - 1) / config.tile),
+        strategies_(strategies) {
     if (config.method == Method::kProbabilistic) trace_cache_points();
   }
 
@@ -122,15 +126,24 @@ class Renderer {
                                 counts_, {}, chunk_counters[c], &pixel);
           if (!pixel || v.is_black()) continue;
           ++chunk_counters[c].splats;
-          splats[c].push_back({pixel->y * width_ + pixel->x, v / m});
+          splats[c].push_back({pixel->y * width_ + pixel->x, s, v / m});
         }
       }
     });
     // In chunk order, so the sums do not depend on the thread count.
     for (std::uint32_t c = 0; c < chunks; ++c) {
       counters.add(chunk_counters[c]);
-      for (const Splat& s : splats[c]) add(sum, s.pixel, s.value);
+      for (const Splat& s : splats[c]) {
+        add(sum, s.pixel, s.value);
+        record(s.s, 1, s.pixel, s.value);
+      }
     }
+  }
+
+  // The strategy images' share of a contribution already added to the image (nothing without
+  // --strategy-images).
+  void record(std::uint32_t s, std::uint32_t t, std::uint32_t pixel, const Rgb& value) const {
+    if (strategies_ != nullptr) strategies_->add(s, t, pixel, value);
   }
 
   PathVertex camera_start() const {
@@ -161,7 +174,9 @@ class Renderer {
         Rgb value;
         for (std::uint32_t t = 2; t <= camera.size(); ++t) {
           const auto prefix = std::span<const PathVertex>(camera).first(t);
-          value += connect(scene_, {}, prefix, counts_, {}, row_counters[y]);
+          const Rgb emitter_hit = connect(scene_, {}, prefix, counts_, {}, row_counters[y]);
+          value += emitter_hit;
+          record(0, t, pixel, emitter_hit);
           value += connections(it, pixel, prefix, rng, draws, emitter, row_counters[y]);
         }
         add(sum, pixel, value);
@@ -178,8 +193,11 @@ class Renderer {
     if (t > max_length_) return {};  // no room for a light vertex
     const std::uint32_t max_s = max_length_ + 1 - t;
     Rgb value;
-    auto connect_to = [&](const Subpath& path, std::uint32_t s) {
-      return connect(scene_, std::span(path).first(s), camera, counts_, {}, counters);
+    // `share` scales what the strategy images receive: the value's part of the returned sum.
+    auto connect_to = [&](const Subpath& path, std::uint32_t s, double share = 1.0) {
+      const Rgb v = connect(scene_, std::span(path).first(s), camera, counts_, {}, counters);
+      record(s, t, pixel, share == 1.0 ? v : v * share);
+      return v;
     };
     switch (config_.method) {
       case Method::kPathTracing:
@@ -195,9 +213,10 @@ class Renderer {
         return value;
       }
       case Method::kVertexConnection: {
+        const double per_path = 1.0 / static_cast<double>(it.pool.size());
         for (const Subpath& path : it.pool) {
           for (std::uint32_t s = 1; s <= std::min<std::uint32_t>(max_s, path.size()); ++s) {
-            value += connect_to(path, s);
+            value += connect_to(path, s, per_path);
           }
         }
         return value / static_cast<double>(it.pool.size());
@@ -236,8 +255,10 @@ class Renderer {
       }
       const LightVertexRef& v = it.vertices[index];
       if (v.count > max_s) continue;
-      value += coefficient * connect(scene_, std::span(it.pool[v.path]).first(v.count), camera,
-                                     counts_, {}, counters);
+      const Rgb drawn = coefficient * connect(scene_, std::span(it.pool[v.path]).first(v.count),
+                                              camera, counts_, {}, counters);
+      value += drawn;
+      record(v.count, static_cast<std::uint32_t>(camera.size()), pixel, drawn);
     }
     return value;
   }
@@ -309,6 +330,7 @@ class Renderer {
   std::uint32_t width_, height_, max_length_;
   std::uint32_t tiles_x_, tiles_y_;
   std::vector<Subpath> cache_paths_;
+  StrategyTally* strategies_;
 };
 
 }  // namespace
@@ -343,17 +365,23 @@ StrategyCounts strategy_counts(const RenderConfig& config, const Scene& scene) {
 
 ReplicateImage render_replicate(const Scene& scene, const RenderConfig& config, std::uint64_t key,
                                 std::uint32_t replicate, std::uint32_t iterations,
-                                const std::atomic<bool>* interrupted) {
+                                const std::atomic<bool>* interrupted, bool strategy_images) {
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = process_cpu_seconds();
   ReplicateImage out;
   out.image = Image(scene.description().width, scene.description().height);
-  Renderer renderer(scene, config, key, replicate);
+  std::optional<StrategyTally> strategies;
+  if (strategy_images) {
+    strategies.emplace(strategy_counts(config, scene), scene.description().max_length,
+                       scene.description().width, scene.description().height);
+  }
+  Renderer renderer(scene, config, key, replicate, strategies ? &*strategies : nullptr);
   for (std::uint32_t i = 0; i < iterations; ++i) {
     if (interrupted && interrupted->load()) break;
     renderer.iterate(i, out.image, out.counters);
   }
   for (double& v : out.image.values) v /= iterations;
+  if (strategies) out.strategies = std::move(*strategies).per_iteration_mean(iterations);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.cpu_seconds = process_cpu_seconds() - cpu_start;
   return out;

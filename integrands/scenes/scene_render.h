@@ -19,6 +19,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "harness/rng.h"
@@ -26,6 +27,7 @@
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/scene.h"
 #include "results/image.h"
+#include "results/strategy_images.h"
 
 namespace pcbench::scene {
 
@@ -74,12 +76,17 @@ struct ReplicateImage {
   TraceCounters counters;
   double seconds = 0.0;      // wall
   double cpu_seconds = 0.0;  // process CPU over the replicate (all threads)
+  // With `strategy_images`: the image split by strategy (s, t), one replicate's worth
+  // (integrands/scenes/strategy_tally.h).
+  std::optional<StrategyImages> strategies = {};
 };
 
 // One replicate: `iterations` samples per pixel. Its random numbers come from (key, replicate)
-// only, so the image is the same for any number of threads.
+// only, so the image is the same for any number of threads, with or without `strategy_images`
+// (which costs a buffer per strategy, so it is off unless asked for).
 ReplicateImage render_replicate(const Scene& scene, const RenderConfig& config, std::uint64_t key,
                                 std::uint32_t replicate, std::uint32_t iterations,
-                                const std::atomic<bool>* interrupted = nullptr);
+                                const std::atomic<bool>* interrupted = nullptr,
+                                bool strategy_images = false);
 
 }  // namespace pcbench::scene
