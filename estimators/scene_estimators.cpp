@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "harness/errors.h"
+
 namespace pcbench {
 namespace {
 
@@ -42,6 +44,16 @@ ParamSpec guide_spec() {
               "uniformly), or all",
           .choices = {"first", "all"}};
 }
+ParamSpec visibility_spec() {
+  return {.name = "visibility",
+          .type = ParamType::kChoice,
+          .default_value = "ignored",
+          .description =
+              "importance at the cache point: the unoccluded connection value (ignored), or "
+              "times its visibility (cache-point: one shadow ray per tile and light vertex; "
+              "needs uniform_mix > 0)",
+          .choices = {"ignored", "cache-point"}};
+}
 ParamSpec tile_spec() {
   return {.name = "tile",
           .type = ParamType::kInt,
@@ -57,6 +69,15 @@ RenderConfig read(const ResolvedParams& p, RenderConfig c) {
   if (p.has("uniform_mix")) c.uniform_mix = p.real("uniform_mix");
   if (p.has("tile")) c.tile = static_cast<std::uint32_t>(p.integer("tile"));
   if (p.has("guide")) c.guide_all = p.text("guide") == "all";
+  if (p.has("visibility")) c.cache_visibility = p.text("visibility") == "cache-point";
+  // Light the cache point cannot see may reach other pixels of its tile: only the uniform share
+  // keeps P > 0 for it (without it this is the control ctl-scene-visible-only).
+  if (c.cache_visibility && !(c.uniform_mix > 0.0)) {
+    throw InputError(
+        "visibility=cache-point needs uniform_mix > 0: without mixing, light vertices the cache "
+        "point cannot see are never drawn for the pixels of its tile that can (biased; that is "
+        "the negative control ctl-scene-visible-only)");
+  }
   return c;
 }
 
@@ -90,7 +111,9 @@ void add_scene_forms(std::vector<EstimatorEntry>& table) {
                       {.method = Method::kLightVertexCache, .light_paths = 1024});
     } else if (e.name == "pcbpt") {
       give_scene_form(
-          e, {light_paths_spec(1024), vertex_draws_spec(), mix_spec(), tile_spec(), guide_spec()},
+          e,
+          {light_paths_spec(1024), vertex_draws_spec(), mix_spec(), tile_spec(), guide_spec(),
+           visibility_spec()},
           {.method = Method::kProbabilistic, .light_paths = 1024});
     }
   }

@@ -292,6 +292,7 @@ class Renderer {
     it.tile_has_draws.assign(tiles, 0);
     if (n == 0) return;
     const bool visible_only = config_.flaw == SceneFlaw::kVisibleOnlyImportance;
+    const bool visibility = visible_only || config_.cache_visibility;
     const ResamplingStep step(StepConfig{.M = n,
                                          .K = config_.draws,
                                          .selection = Selection::kImportance,
@@ -303,7 +304,7 @@ class Renderer {
       std::vector<double> importance(n, 0.0);
       const Subpath& cache = cache_paths_[tile];
       if (cache.size() == 2) {
-        const ConnectOptions options{.visibility = visible_only, .weighted = false};
+        const ConnectOptions options{.visibility = visibility, .weighted = false};
         for (std::uint32_t i = 0; i < n; ++i) {
           const LightVertexRef& v = it.vertices[i];
           importance[i] = connect(scene_, std::span(it.pool[v.path]).first(v.count), cache, counts_,

@@ -60,6 +60,11 @@ struct RenderConfig {
   // pcbpt: guide every camera vertex by its tile's cache point, not just the first one (the
   // cache point is a first hit; deeper vertices are elsewhere and are drawn uniformly).
   bool guide_all = false;
+  // pcbpt: the importance at the cache point includes its visibility to the light vertex (one
+  // shadow ray per tile and light vertex). Light blocked at the cache point may still reach
+  // other pixels of the tile, so this is unbiased only with uniform_mix > 0, which the
+  // estimator's parameters require; without mixing it is the negative control below.
+  bool cache_visibility = false;
   SceneFlaw flaw = SceneFlaw::kNone;
 };
 
