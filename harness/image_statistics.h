@@ -21,6 +21,15 @@ namespace pcbench {
 // comparison to say something (the scene counterpart of a run's detectable relative bias).
 inline constexpr double kMaxBrightRelativeMdb = 0.05;
 
+// How many times both runs' samples per pixel would bring a tile comparison's largest relative
+// detectable bias down to kMaxBrightRelativeMdb at the same replicate count: (mdb / 0.05)², as
+// the detectable bias goes with the standard errors, hence with 1/sqrt(samples per pixel) (the
+// t quantiles depend on the replicate count only). Below 1: the requirement is met already.
+inline double tile_samples_factor(double relative_mdb) {
+  const double r = relative_mdb / kMaxBrightRelativeMdb;
+  return r * r;
+}
+
 struct PixelStatistics {
   Image mean;
   Image standard_error;  // sample sd across replicates / sqrt(R)

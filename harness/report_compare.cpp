@@ -9,6 +9,7 @@
 #include <span>
 
 #include "harness/errors.h"
+#include "harness/image_statistics.h"
 
 namespace pcbench {
 namespace {
@@ -169,6 +170,8 @@ nlohmann::ordered_json comparison_json(const Comparison& c) {
            {"min_detectable_difference", finite_or_null(c.min_detectable_difference)}};
   if (c.tile_relative_mdb) {
     out["tile_relative_mdb"] = finite_or_null(*c.tile_relative_mdb);
+    out["samples_factor_for_required_mdb"] =
+        finite_or_null(tile_samples_factor(*c.tile_relative_mdb));
     out["bright_tiles"] = c.bright_tiles;
   }
   return out;

@@ -47,11 +47,15 @@ Verdict tile_verdict(const TileTestResult& t, std::string expect) {
   v.p_value = t.min_p_adjusted;
   v.tested = true;
   v.expect = std::move(expect);
+  const double factor = tile_samples_factor(t.worst_bright_relative_mdb);
   v.reason = fmt::format(
       "{} tile×channel tests, smallest Holm-adjusted p {:.3g}; detectable tile bias ≤ {:.2f}% "
-      "of the tile mean on {} bright tiles (required ≤ {:.0f}%)",
+      "of the tile mean on {} bright tiles (required ≤ {:.0f}%{})",
       t.tests, t.min_p_adjusted, 100.0 * t.worst_bright_relative_mdb, t.bright_tiles,
-      100.0 * kMaxBrightRelativeMdb);
+      100.0 * kMaxBrightRelativeMdb,
+      std::isnan(factor) ? ""
+      : factor > 1.0     ? fmt::format(": met at about {:.3g}× the samples per pixel", factor)
+                         : ": met");
   return v;
 }
 

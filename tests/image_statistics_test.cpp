@@ -206,6 +206,32 @@ TEST(ImageStatisticsTiles, BiasOfTwiceTheDetectableIsFoundOnItsTile) {
   }
 }
 
+// The samples factor: images whose noise is halved around the same means (what 4× the samples
+// per pixel does to a standard error) halve the detectable bias, so the factor falls 4×, and
+// the factor the noisier pair reports brings it to the requirement.
+TEST(ImageStatisticsTiles, SamplesFactorPredictsTheRequiredPower) {
+  const std::vector<Image> a = normal_replicates(kWidth, kHeight, kReplicates, 31, kSd);
+  const std::vector<Image> b = normal_replicates(kWidth, kHeight, kReplicates, 32, kSd);
+  const Image mean = truth(kWidth, kHeight);
+  const auto shrunk = [&](std::vector<Image> images, double by) {
+    for (Image& image : images) {
+      for (std::size_t i = 0; i < image.values.size(); ++i) {
+        image.values[i] = mean.values[i] + (image.values[i] - mean.values[i]) / by;
+      }
+    }
+    return images;
+  };
+  const double mdb = compare_tiles(a, b, kAlpha).worst_bright_relative_mdb;
+  const double half =
+      compare_tiles(shrunk(a, 2.0), shrunk(b, 2.0), kAlpha).worst_bright_relative_mdb;
+  ASSERT_GT(tile_samples_factor(mdb), 1.0);
+  EXPECT_NEAR(tile_samples_factor(half), tile_samples_factor(mdb) / 4.0,
+              1e-2 * tile_samples_factor(mdb));
+  const double by = std::sqrt(tile_samples_factor(mdb));
+  EXPECT_NEAR(compare_tiles(shrunk(a, by), shrunk(b, by), kAlpha).worst_bright_relative_mdb,
+              kMaxBrightRelativeMdb, 1e-2 * kMaxBrightRelativeMdb);
+}
+
 TEST(ImageStatisticsTiles, AgainstExactImage) {
   const Image exact = truth(kWidth, kHeight);
   std::vector<Image> a = normal_replicates(kWidth, kHeight, kReplicates, 31, kSd);
