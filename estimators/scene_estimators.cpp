@@ -110,11 +110,10 @@ void add_scene_forms(std::vector<EstimatorEntry>& table) {
       give_scene_form(e, {light_paths_spec(1024), vertex_draws_spec()},
                       {.method = Method::kLightVertexCache, .light_paths = 1024});
     } else if (e.name == "pcbpt") {
-      give_scene_form(
-          e,
-          {light_paths_spec(1024), vertex_draws_spec(), mix_spec(), tile_spec(), guide_spec(),
-           visibility_spec()},
-          {.method = Method::kProbabilistic, .light_paths = 1024});
+      give_scene_form(e,
+                      {light_paths_spec(1024), vertex_draws_spec(), mix_spec(), tile_spec(),
+                       guide_spec(), visibility_spec()},
+                      {.method = Method::kProbabilistic, .light_paths = 1024});
     }
   }
 }
