@@ -271,6 +271,19 @@ CLI::Validator alpha_check() {
       "in (0, 1)");
 }
 
+// Seeds are written to reports as JSON integers, which readers may hold in an int64.
+CLI::Option* add_seed_option(CLI::App* app, RunArguments& args, const char* description) {
+  return app->add_option("--seed,-s", args.seed, description)
+      ->check(CLI::Range(std::uint64_t{0},
+                         static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
+}
+
+void add_seed_and_threads_options(CLI::App* app, RunArguments& args) {
+  add_seed_option(app, args, "seed (default 1)");
+  app->add_option("--threads,-t", args.threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(1u, 1024u));
+}
+
 void add_reference_cache_option(CLI::App* app, RunArguments& args) {
   app->add_option("--reference-cache", args.reference_cache,
                   "folder of converged scene images (default results/references)");
@@ -285,18 +298,16 @@ void add_run_options(CLI::App* app, RunArguments& args) {
       ->delimiter(',');
   app->add_option("--param,-p", args.params,
                   "key=value, repeatable; numeric and choice values may be comma lists (a grid)");
-  app->add_option("--samples,-n", args.samples, "camera samples per replicate (default 100000)")
+  app->add_option("--samples,-n", args.samples,
+                  "camera samples per replicate (default 100000; for a scene, samples per pixel, "
+                  "default 16)")
       ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
   app->add_option("--seconds", args.seconds,
                   "equal time: CPU seconds per replicate; a pilot picks the sample count")
       ->check(CLI::Range(1e-3, kMaxSecondsPerReplicate));
   app->add_option("--replicates,-r", args.replicates, "independent replicates (default 32)")
       ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
-  app->add_option("--seed,-s", args.seed, "seed (default 1)")
-      ->check(CLI::Range(std::uint64_t{0},
-                         static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
-  app->add_option("--threads,-t", args.threads, "worker threads (default: all cores)")
-      ->check(CLI::Range(1u, 1024u));
+  add_seed_and_threads_options(app, args);
   app->add_option("--out,-o", args.out_dir,
                   "output folder (default results/runs/<date-time>/, linked as results/latest)");
   app->add_flag("--quiet,-q", args.quiet, "no progress and no summary table");
@@ -325,11 +336,7 @@ void add_reference_options(CLI::App* app, RunArguments& args) {
   app->add_option("--replicates,-r", args.replicates,
                   "replicates, for the image's standard error (default 8)")
       ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
-  app->add_option("--seed,-s", args.seed, "seed (default 1)")
-      ->check(CLI::Range(std::uint64_t{0},
-                         static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
-  app->add_option("--threads,-t", args.threads, "worker threads (default: all cores)")
-      ->check(CLI::Range(1u, 1024u));
+  add_seed_and_threads_options(app, args);
   add_reference_cache_option(app, args);
 }
 
@@ -372,9 +379,7 @@ void add_replay_options(CLI::App* app, RunArguments& args, ReplayRequest& reques
       ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
   app->add_option("--replicates,-r", args.replicates, "the run's replicates")
       ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
-  app->add_option("--seed,-s", args.seed, "the run's seed (default 1)")
-      ->check(CLI::Range(std::uint64_t{0},
-                         static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
+  add_seed_option(app, args, "the run's seed (default 1)");
   app->add_option("--replicate", request.replicate, "the replicate (0-based)")->required();
   app->add_option("--sample", request.sample, "the camera sample within it (0-based)")->required();
   app->add_option("--run-id", request.run_id,

@@ -17,32 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliResult {
-  int status;
-  std::string out;
-  std::string err;
-};
-
-CliResult cli(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  const int status = run_cli(args, out, err);
-  return {status, out.str(), err.str()};
-}
-
-// Runs in a fresh working folder so that default output paths land there.
-class CliInFolder : public ::testing::Test {
- protected:
-  void SetUp() override {
-    previous_ = fs::current_path();
-    fs::current_path(folder_.path());
-  }
-  void TearDown() override { fs::current_path(previous_); }
-  const fs::path& folder() const { return folder_.path(); }
-
- private:
-  TemporaryFolder folder_;
-  fs::path previous_;
-};
+class CliInFolder : public InTemporaryFolder {};
 
 TEST(Cli, HelpAndVersionExitZero) {
   EXPECT_EQ(cli({"--help"}).status, 0);
@@ -196,10 +171,6 @@ TEST_F(CliInFolder, DefaultOutputFolderAndLatestLink) {
   ASSERT_EQ(again.status, 0);
   EXPECT_EQ(again.out.find("mean ± stderr"), std::string::npos);  // --quiet: no table
   EXPECT_EQ(files_under(folder() / "results" / "runs").size(), 2u);
-}
-
-nlohmann::json report_at(const fs::path& folder) {
-  return nlohmann::json::parse(read_text(folder / "report.json"));
 }
 
 // The numbers of a report, without timings and context: what must not depend on threads.

@@ -16,19 +16,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status;
-  std::string out;
-  std::string err;
-};
-
 class CliVerify : public ::testing::Test {
  protected:
-  Result cli(const std::vector<std::string>& args) {
-    std::ostringstream out, err;
-    const int status = run_cli(args, out, err);
-    return {status, out.str(), err.str()};
-  }
   nlohmann::json report(const std::string& name) {
     return nlohmann::json::parse(read_text(folder_.path() / name / "report.json"));
   }
@@ -40,14 +29,14 @@ class CliVerify : public ::testing::Test {
 
 // A negative control alone runs on its declared integrand and budget and is flagged: exit 0.
 TEST_F(CliVerify, NegativeControlUsesItsDeclaredWorkload) {
-  const Result r = cli(
+  const CliResult r = cli(
       {"verify", "-e", "ctl-wrong-count", "-n", "20000", "-r", "8", "-q", "--out", at("control")});
   EXPECT_EQ(r.status, 0) << r.err;
   const auto run = report("control")["runs"][0];
   EXPECT_EQ(run["integrand"], "form-factor");
   EXPECT_EQ(run["verdict"]["result"], "biased");
   EXPECT_EQ(run["verdict"]["expect"], "biased");
-  const Result bad = cli({"verify", "-e", "plain", "--out", at("bad")});
+  const CliResult bad = cli({"verify", "-e", "plain", "--out", at("bad")});
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("only a negative control declares its own integrand"), std::string::npos);
   EXPECT_FALSE(fs::exists(at("bad") + "/report.json"));
@@ -56,8 +45,8 @@ TEST_F(CliVerify, NegativeControlUsesItsDeclaredWorkload) {
 // Too few effective samples: verify runs again with 4 and 16 times the samples, at the share of
 // alpha left for later stages, and records the earlier stages.
 TEST_F(CliVerify, LowCountRunsEscalate) {
-  const Result r = cli({"verify", "-e", "plain", "-i", "narrow-peak", "-n", "5000", "-r", "16",
-                        "-q", "--out", at("escalated")});
+  const CliResult r = cli({"verify", "-e", "plain", "-i", "narrow-peak", "-n", "5000", "-r", "16",
+                           "-q", "--out", at("escalated")});
   EXPECT_EQ(r.status, 0) << r.out;
   const auto run = report("escalated")["runs"][0];
   ASSERT_EQ(run["escalation"].size(), 2u);
@@ -108,7 +97,7 @@ TEST_F(CliVerify, CompareAndPairwise) {
                  "-q", "--out", at("b")})
                 .status,
             0);
-  const Result c =
+  const CliResult c =
       cli({"compare", at("a") + "/report.json", at("b") + "/report.json", "--out", at("c")});
   EXPECT_EQ(c.status, 0) << c.err;
   ASSERT_EQ(report("c")["comparisons"].size(), 1u);
@@ -119,7 +108,7 @@ TEST_F(CliVerify, CompareAndPairwise) {
     "runs": [{"estimator": "plain", "integrand": "form-factor"},
              {"estimator": "vc-all", "integrand": "form-factor"},
              {"estimator": "ctl-wrong-count", "integrand": "form-factor"}]})";
-  const Result p = cli({"run", at("pairwise.json"), "-q", "--out", at("p")});
+  const CliResult p = cli({"run", at("pairwise.json"), "-q", "--out", at("p")});
   EXPECT_EQ(p.status, 0) << p.out;
   const auto comparisons = report("p")["comparisons"];
   ASSERT_EQ(comparisons.size(), 3u);
@@ -134,8 +123,8 @@ TEST_F(CliVerify, CompareAndPairwise) {
 // Without a reference, verify tests estimators against each other (two-sample Welch): honest
 // pairs agree, and a negative control differs from each of them.
 TEST_F(CliVerify, WithoutAReferenceEstimatorsAreComparedPairwise) {
-  const Result r = cli({"verify", "-e", "plain,pcbpt,ctl-wrong-count", "-i", "expr", "-p",
-                        "f=x0*y0+sin(x0)", "-n", "20000", "-r", "8", "-q", "--out", at("nr")});
+  const CliResult r = cli({"verify", "-e", "plain,pcbpt,ctl-wrong-count", "-i", "expr", "-p",
+                           "f=x0*y0+sin(x0)", "-n", "20000", "-r", "8", "-q", "--out", at("nr")});
   EXPECT_EQ(r.status, 0) << r.out;
   const auto report = this->report("nr");
   ASSERT_EQ(report["comparisons"].size(), 3u);
@@ -185,7 +174,7 @@ TEST_F(CliVerify, EqualTimeSceneBudgetReplaysWithTheChosenSamplesPerPixel) {
   std::vector<std::string> timed_args = scene;
   for (const char* a : {"--seconds", "0.02", "--out"}) timed_args.emplace_back(a);
   timed_args.push_back(at("timed"));
-  const Result timed_run = cli(timed_args);
+  const CliResult timed_run = cli(timed_args);
   ASSERT_TRUE(timed_run.status == 0 || timed_run.status == 1) << timed_run.err;
   EXPECT_NE(timed_run.err.find("µs per sample per pixel -> "), std::string::npos) << timed_run.err;
   EXPECT_NE(timed_run.err.find(" samples per pixel for 0.02 s"), std::string::npos)

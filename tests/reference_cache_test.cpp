@@ -149,18 +149,6 @@ TEST(ImageErrors, SubtractTheReferencesOwnVariance) {
                    2.0 * exact["rel_mse_per_replicate"].get<double>());
 }
 
-struct CliResult {
-  int status;
-  std::string out;
-  std::string err;
-};
-
-CliResult cli(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  const int status = run_cli(args, out, err);
-  return {status, out.str(), err.str()};
-}
-
 TEST(CliReference, LaterRunsMeasureTheirErrorsAgainstTheCache) {
   TemporaryFolder folder;
   const std::string cache = (folder.path() / "refs").string();

@@ -135,35 +135,7 @@ TEST(SceneRenderStrategyImages, LayersOfAnotherRunAreRefused) {
   EXPECT_THROW(a.add(b), std::invalid_argument);
 }
 
-struct CliResult {
-  int status;
-  std::string out;
-  std::string err;
-};
-
-CliResult cli(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  const int status = run_cli(args, out, err);
-  return {status, out.str(), err.str()};
-}
-
-nlohmann::json report_at(const fs::path& folder) {
-  return nlohmann::json::parse(read_text(folder / "report.json"));
-}
-
-class CliStrategyImages : public ::testing::Test {
- protected:
-  void SetUp() override {
-    previous_ = fs::current_path();
-    fs::current_path(folder_.path());
-  }
-  void TearDown() override { fs::current_path(previous_); }
-  const fs::path& folder() const { return folder_.path(); }
-
- private:
-  TemporaryFolder folder_;
-  fs::path previous_;
-};
+class CliStrategyImages : public InTemporaryFolder {};
 
 // A channel by name, as read_exr returned them.
 const std::vector<float>& channel(const std::vector<ExrChannel>& channels,

@@ -1,5 +1,7 @@
 #include "tests/test_support.h"
 
+#include "harness/cli.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -121,6 +123,25 @@ nlohmann::json small_report_run(const std::string& id, const std::vector<double>
           {"error", status == "ok" ? nlohmann::json(nullptr) : nlohmann::json("it failed")},
           {"samples", 1000},
           {"replicates", replicates}};
+}
+
+CliResult cli(const std::vector<std::string>& args) {
+  std::ostringstream out, err;
+  const int status = run_cli(args, out, err);
+  return {status, out.str(), err.str()};
+}
+
+nlohmann::json report_at(const std::filesystem::path& folder) {
+  return nlohmann::json::parse(read_text(folder / "report.json"));
+}
+
+void InTemporaryFolder::SetUp() {
+  previous_ = std::filesystem::current_path();
+  std::filesystem::current_path(folder_.path());
+}
+
+void InTemporaryFolder::TearDown() {
+  std::filesystem::current_path(previous_);
 }
 
 }  // namespace pcbench

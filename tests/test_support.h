@@ -1,6 +1,8 @@
 // Helpers shared by the tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -38,6 +40,29 @@ class TemporaryFolder {
 
  private:
   std::filesystem::path path_;
+};
+
+// What `pcbench ARGS` returned and printed, run in process (harness/cli.h).
+struct CliResult {
+  int status;
+  std::string out;
+  std::string err;
+};
+CliResult cli(const std::vector<std::string>& args);
+
+// The report.json in `folder`, parsed.
+nlohmann::json report_at(const std::filesystem::path& folder);
+
+// Runs each test in a fresh temporary working folder, so that default output paths land there.
+class InTemporaryFolder : public ::testing::Test {
+ protected:
+  void SetUp() override;
+  void TearDown() override;
+  const std::filesystem::path& folder() const { return folder_.path(); }
+
+ private:
+  TemporaryFolder folder_;
+  std::filesystem::path previous_;
 };
 
 // Every regular file under `folder`, relative paths, sorted.
