@@ -64,18 +64,21 @@ int run_reference_command(const std::vector<RunPlan>& plans, const ReferenceOpti
     for (const ReplicateResult& rep : result.replicates) cpu += rep.cpu_seconds;
     nlohmann::ordered_json params = nlohmann::ordered_json::object();
     for (const auto& [key, value] : plan.estimator_params.values()) params[key] = to_text(value);
-    const ReferenceImage image{.mean = stats.mean,
-                               .standard_error = stats.standard_error,
-                               .provenance = {{"estimator", plan.estimator->name},
-                                              {"estimator_params", params},
-                                              {"samples_per_pixel", plan.samples},
-                                              {"replicates", plan.replicates},
-                                              {"seed", options.seed},
-                                              {"cpu_seconds", cpu},
-                                              {"date", context.date},
-                                              {"version", context.version},
-                                              {"git_commit", context.git_commit},
-                                              {"git_dirty", context.git_dirty}}};
+    const ReferenceImage image{
+        .mean = stats.mean,
+        .standard_error = stats.standard_error,
+        .provenance = {{"estimator", plan.estimator->name},
+                       {"estimator_params", params},
+                       {"samples_per_pixel", plan.samples},
+                       {"replicates", plan.replicates},
+                       {"seed", options.seed},
+                       {"cpu_seconds", cpu},
+                       {"date", context.date},
+                       {"version", context.version},
+                       {"git_commit", context.git_commit},
+                       {"git_dirty", context.git_dirty == "unknown"
+                                         ? nlohmann::ordered_json(nullptr)
+                                         : nlohmann::ordered_json(context.git_dirty == "true")}}};
     const bool stored = cache.store(scene, image, err);
     const double quality = relative_variance(stats.mean, stats.standard_error);
     out << fmt::format(
