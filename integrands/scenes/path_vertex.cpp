@@ -55,11 +55,6 @@ void random_walk(const Scene& scene, RandomStream& rng, Vec3 direction, double d
 
 }  // namespace
 
-double abs_cos_at(const PathVertex& v, const Vec3& direction) {
-  if (v.kind == VertexKind::kCamera || v.point_light) return 1.0;
-  return std::abs(dot(v.normal, direction));
-}
-
 Rgb emitted_towards(const Scene& scene, const PathVertex& v, const Vec3& direction) {
   if (v.point_light) return scene.description().point_lights[v.triangle].intensity;
   const Triangle& t = scene.triangle(v.triangle);
@@ -85,6 +80,8 @@ void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& r
                        std::uint32_t max_length, std::vector<PathVertex>& path,
                        TraceCounters& counters) {
   path.clear();
+  path.reserve(std::size_t{max_length} +
+               1);  // a fresh vector: one allocation, not one per doubling
   const CameraModel& camera = scene.camera();
   PathVertex y0;
   y0.kind = VertexKind::kCamera;
@@ -92,9 +89,7 @@ void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& r
   y0.beta = {1.0, 1.0, 1.0};
   path.push_back(y0);
   const Vec3 direction = camera.direction(fx, fy);
-  const auto pixel = camera.project(direction);
-  const double cos_theta = pixel ? pixel->cos_theta : 1.0;
-  random_walk(scene, rng, direction, camera.pixel_pdf(cos_theta), {1.0, 1.0, 1.0},
+  random_walk(scene, rng, direction, camera.pixel_pdf(camera.cos_theta(direction)), {1.0, 1.0, 1.0},
               std::size_t{max_length} + 1, path, counters.camera_rays);
 }
 
@@ -115,6 +110,7 @@ PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng) {
 void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_length,
                       std::vector<PathVertex>& path, TraceCounters& counters) {
   path.clear();
+  path.reserve(std::max<std::size_t>(max_length, 1));  // as in trace_camera_path
   ++counters.light_paths;
   path.push_back(sample_emitter_vertex(scene, rng));
   if (max_length < 2) return;

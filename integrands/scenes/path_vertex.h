@@ -6,6 +6,7 @@
 // other way (Veach's thesis, ch. 10; the same bookkeeping as pbrt-v4's BDPT).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -82,6 +83,9 @@ double emission_pdf(const PathVertex& v, const Vec3& w);
 Rgb emitted_towards(const Scene& scene, const PathVertex& v, const Vec3& direction);
 
 // |cos| at v of the direction to `target`; 1 at a point light or the camera.
-double abs_cos_at(const PathVertex& v, const Vec3& direction);
+inline double abs_cos_at(const PathVertex& v, const Vec3& direction) {
+  if (v.kind == VertexKind::kCamera || v.point_light) return 1.0;
+  return std::abs(dot(v.normal, direction));
+}
 
 }  // namespace pcbench::scene
