@@ -38,10 +38,10 @@ Rgb bsdf_eval(const Material& material, const Vec3& normal, const Vec3& wo, cons
   if (!same_side(n, wo, wi)) return {};
   switch (material.kind) {
     case MaterialKind::kDiffuse:
-      return material.albedo / kPi;
+      return material.albedo * kInvPi;
     case MaterialKind::kPhong:
       return material.albedo *
-             ((material.exponent + 2.0) / (2.0 * kPi) * phong_lobe(material, n, wo, wi));
+             ((material.exponent + 2.0) * (0.5 * kInvPi) * phong_lobe(material, n, wo, wi));
     case MaterialKind::kMirror:
       return {};
   }
@@ -52,11 +52,11 @@ double bsdf_pdf(const Material& material, const Vec3& normal, const Vec3& wo, co
   const Vec3 n = facing(normal, wo);
   switch (material.kind) {
     case MaterialKind::kDiffuse:
-      return same_side(n, wo, wi) ? dot(n, wi) / kPi : 0.0;
+      return same_side(n, wo, wi) ? dot(n, wi) * kInvPi : 0.0;
     case MaterialKind::kPhong:
       // The lobe is sampled in full (also below the surface, where the sample is then
       // invalid), so the density does not depend on which side wi is on.
-      return (material.exponent + 1.0) / (2.0 * kPi) * phong_lobe(material, n, wo, wi);
+      return (material.exponent + 1.0) * (0.5 * kInvPi) * phong_lobe(material, n, wo, wi);
     case MaterialKind::kMirror:
       return 0.0;
   }

@@ -61,21 +61,26 @@ JoinDensities emitter_hit_densities(const Scene& scene, std::span<const PathVert
   return join;
 }
 
-// Strategies with s, t >= 1, along their segment.
+// Solid-angle density of camera end y_{t-1} (t >= 2) leaving towards x_{s-1} by its BSDF.
+double surface_camera_end_pdf(const Scene& scene, const PathVertex& pt, const Segment& segment) {
+  return pdf_solid_angle(scene, pt, &pt.to_previous, -segment.w);
+}
+
+// Strategies with s, t >= 1, along their segment. `camera_end_pdf` is y_{t-1}'s solid-angle
+// density towards x_{s-1}: connect() has it from the pixel for t = 1.
 JoinDensities connection_densities(const Scene& scene, std::span<const PathVertex> light,
-                                   std::span<const PathVertex> camera, const Segment& segment) {
+                                   std::span<const PathVertex> camera, const Segment& segment,
+                                   double camera_end_pdf) {
   const std::size_t s = light.size(), t = camera.size();
   const PathVertex& qs = light[s - 1];
   const PathVertex& pt = camera[t - 1];
   const Vec3 to_light = -segment.w;
-  // Each end's own arrival direction; none at the camera or at x_0 (emission).
+  // x_{s-1}'s own arrival direction; none at x_0 (emission).
   const Vec3* qs_wo = s >= 2 ? &qs.to_previous : nullptr;
-  const Vec3* pt_wo = t >= 2 ? &pt.to_previous : nullptr;
   JoinDensities join;
   join.camera_end = pdf_solid_angle(scene, qs, qs_wo, segment.w) * abs_cos_at(pt, segment.w) *
                     segment.inv_distance_squared;
-  join.light_end = pdf_solid_angle(scene, pt, pt_wo, to_light) * abs_cos_at(qs, segment.w) *
-                   segment.inv_distance_squared;
+  join.light_end = camera_end_pdf * abs_cos_at(qs, segment.w) * segment.inv_distance_squared;
   if (t >= 3) {
     join.camera_before = pdf_solid_angle(scene, pt, &to_light, pt.to_previous) *
                          area_factor_to_previous(pt, camera[t - 2]);
@@ -124,15 +129,6 @@ double balance_weight(std::span<const PathVertex> light, std::span<const PathVer
   return 1.0 / (1.0 + others / count(s));
 }
 
-// mis_weight, given the connection's segment (unused for s = 0).
-double weight_along(const Scene& scene, std::span<const PathVertex> light,
-                    std::span<const PathVertex> camera, const StrategyCounts& counts,
-                    const Segment& segment) {
-  const JoinDensities join = light.empty() ? emitter_hit_densities(scene, camera)
-                                           : connection_densities(scene, light, camera, segment);
-  return balance_weight(light, camera, join, counts);
-}
-
 // f at a vertex for light arriving from its predecessor and leaving in unit direction `w`; for
 // an emitter vertex of a light subpath, the emitted radiance in `w`.
 Rgb scattering(const Scene& scene, const PathVertex& v, const Vec3& w) {
@@ -144,8 +140,16 @@ Rgb scattering(const Scene& scene, const PathVertex& v, const Vec3& w) {
 
 double mis_weight(const Scene& scene, std::span<const PathVertex> light,
                   std::span<const PathVertex> camera, const StrategyCounts& counts) {
-  const Segment segment = light.empty() ? Segment{} : segment_between(light.back(), camera.back());
-  return weight_along(scene, light, camera, counts, segment);
+  if (light.empty()) {
+    return balance_weight(light, camera, emitter_hit_densities(scene, camera), counts);
+  }
+  const Segment segment = segment_between(light.back(), camera.back());
+  const PathVertex& pt = camera.back();
+  const double camera_end_pdf = camera.size() >= 2
+                                    ? surface_camera_end_pdf(scene, pt, segment)
+                                    : pdf_solid_angle(scene, pt, nullptr, -segment.w);
+  return balance_weight(
+      light, camera, connection_densities(scene, light, camera, segment, camera_end_pdf), counts);
 }
 
 Rgb connect(const Scene& scene, std::span<const PathVertex> light,
@@ -158,7 +162,8 @@ Rgb connect(const Scene& scene, std::span<const PathVertex> light,
   }
   Rgb value;
   Segment segment;
-  if (s == 0) {  // the camera subpath found an emitter by itself
+  double camera_end_pdf = 0.0;  // t = 1: the pixel's density towards x_{s-1}
+  if (s == 0) {                 // the camera subpath found an emitter by itself
     const PathVertex& pt = camera[t - 1];
     if (pt.kind != VertexKind::kSurface) return {};
     const Triangle& tri = scene.triangle(pt.triangle);
@@ -176,9 +181,9 @@ Rgb connect(const Scene& scene, std::span<const PathVertex> light,
       const auto where = scene.camera().project(-w);
       if (pixel) *pixel = where;
       if (!where) return {};
+      camera_end_pdf = scene.camera().pixel_pdf(where->cos_theta);
       value = qs.beta * scattering(scene, qs, w) *
-              (abs_cos_at(qs, w) * segment.inv_distance_squared *
-               scene.camera().pixel_pdf(where->cos_theta));
+              (abs_cos_at(qs, w) * segment.inv_distance_squared * camera_end_pdf);
     } else {
       const Rgb f_camera = bsdf_eval(scene.material(pt.triangle), pt.normal, pt.to_previous, -w);
       value = qs.beta * scattering(scene, qs, w) * f_camera * pt.beta *
@@ -201,7 +206,12 @@ Rgb connect(const Scene& scene, std::span<const PathVertex> light,
     }
   }
   if (!options.weighted) return value;
-  return value * weight_along(scene, light, camera, counts, segment);
+  if (s == 0)
+    return value * balance_weight(light, camera, emitter_hit_densities(scene, camera), counts);
+  if (t >= 2) camera_end_pdf = surface_camera_end_pdf(scene, camera[t - 1], segment);
+  return value * balance_weight(light, camera,
+                                connection_densities(scene, light, camera, segment, camera_end_pdf),
+                                counts);
 }
 
 }  // namespace pcbench::scene

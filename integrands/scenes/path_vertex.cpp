@@ -73,15 +73,15 @@ double pdf_solid_angle(const Scene& scene, const PathVertex& v, const Vec3* wo, 
 double emission_pdf(const PathVertex& v, const Vec3& w) {
   if (v.point_light) return 1.0 / (4.0 * kPi);
   const double c = dot(v.normal, w);
-  return c > 0.0 ? c / kPi : 0.0;
+  return c > 0.0 ? c * kInvPi : 0.0;
 }
 
 void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& rng,
                        std::uint32_t max_length, std::vector<PathVertex>& path,
                        TraceCounters& counters) {
   path.clear();
-  path.reserve(std::size_t{max_length} +
-               1);  // a fresh vector: one allocation, not one per doubling
+  // A fresh vector: one allocation, not one per doubling.
+  path.reserve(std::size_t{max_length} + 1);
   const CameraModel& camera = scene.camera();
   PathVertex y0;
   y0.kind = VertexKind::kCamera;
@@ -125,7 +125,7 @@ void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_l
     pdf = 1.0 / (4.0 * kPi);
   } else {
     direction = sample_cosine_hemisphere(x0.normal, u1, u2);
-    pdf = dot(direction, x0.normal) / kPi;
+    pdf = dot(direction, x0.normal) * kInvPi;
     if (!(pdf > 0.0)) return;
   }
   const Rgb radiance = emitted_towards(scene, x0, direction);
