@@ -126,7 +126,8 @@ double balance_weight(std::span<const PathVertex> light, std::span<const PathVer
     const bool before_delta = i > 0 ? light[i - 1].delta : point_light;
     if (!light_delta(i) && !before_delta) others += ratio * count(i);
   }
-  return 1.0 / (1.0 + others / count(s));
+  const double own = count(s);
+  return own / (own + others);  // = 1 / (1 + others / own), with one division
 }
 
 // f at a vertex for light arriving from its predecessor and leaving in unit direction `w`; for
