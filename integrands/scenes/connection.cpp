@@ -61,34 +61,49 @@ JoinDensities emitter_hit_densities(const Scene& scene, std::span<const PathVert
   return join;
 }
 
-// Solid-angle density of camera end y_{t-1} (t >= 2) leaving towards x_{s-1} by its BSDF.
-double surface_camera_end_pdf(const Scene& scene, const PathVertex& pt, const Segment& segment) {
-  return pdf_solid_angle(scene, pt, &pt.to_previous, -segment.w);
+// One end of a connection seen from the other: what it scatters (or emits) along the segment and
+// its two solid-angle densities there, computed together for the value and the weight.
+struct EndTerms {
+  Rgb f;                   // x_{s-1}: BSDF or emitted radiance; y_{t-1} (t >= 2): BSDF
+  double pdf_along = 0.0;  // of leaving along the segment towards the other end
+  // Of leaving towards its own predecessor, having arrived along the segment (surfaces only).
+  double pdf_back = 0.0;
+};
+
+// x_{s-1} (s >= 1); `w` points from it along the segment.
+EndTerms light_end_terms(const Scene& scene, const PathVertex& qs, const Vec3& w) {
+  if (qs.kind == VertexKind::kEmitter) {
+    return {emitted_towards(scene, qs, w), emission_pdf(qs, w), 0.0};
+  }
+  const BsdfValue b = bsdf_value(scene.material(qs.triangle), qs.normal, qs.to_previous, w);
+  return {b.f, b.pdf, b.pdf_reverse};
 }
 
-// Strategies with s, t >= 1, along their segment. `camera_end_pdf` is y_{t-1}'s solid-angle
-// density towards x_{s-1}: connect() has it from the pixel for t = 1.
-JoinDensities connection_densities(const Scene& scene, std::span<const PathVertex> light,
+// y_{t-1} for t >= 2; `w` points from it along the segment.
+EndTerms surface_camera_end_terms(const Scene& scene, const PathVertex& pt, const Vec3& w) {
+  const BsdfValue b = bsdf_value(scene.material(pt.triangle), pt.normal, pt.to_previous, w);
+  return {b.f, b.pdf, b.pdf_reverse};
+}
+
+// y_0 for t = 1: the pixel `w` goes through, if any, and its density (no f: the camera's
+// importance enters the value through that density).
+EndTerms camera_lens_terms(const Scene& scene, const Vec3& w, std::optional<PixelPosition>& where) {
+  where = scene.camera().project(w);
+  return {{}, where ? scene.camera().pixel_pdf(where->cos_theta) : 0.0, 0.0};
+}
+
+// Strategies with s, t >= 1: the four densities from the two ends' terms.
+JoinDensities connection_densities(std::span<const PathVertex> light,
                                    std::span<const PathVertex> camera, const Segment& segment,
-                                   double camera_end_pdf) {
+                                   const EndTerms& light_end, const EndTerms& camera_end) {
   const std::size_t s = light.size(), t = camera.size();
   const PathVertex& qs = light[s - 1];
   const PathVertex& pt = camera[t - 1];
-  const Vec3 to_light = -segment.w;
-  // x_{s-1}'s own arrival direction; none at x_0 (emission).
-  const Vec3* qs_wo = s >= 2 ? &qs.to_previous : nullptr;
   JoinDensities join;
-  join.camera_end = pdf_solid_angle(scene, qs, qs_wo, segment.w) * abs_cos_at(pt, segment.w) *
-                    segment.inv_distance_squared;
-  join.light_end = camera_end_pdf * abs_cos_at(qs, segment.w) * segment.inv_distance_squared;
-  if (t >= 3) {
-    join.camera_before = pdf_solid_angle(scene, pt, &to_light, pt.to_previous) *
-                         area_factor_to_previous(pt, camera[t - 2]);
-  }
-  if (s >= 2) {
-    join.light_before = pdf_solid_angle(scene, qs, &segment.w, qs.to_previous) *
-                        area_factor_to_previous(qs, light[s - 2]);
-  }
+  join.camera_end = light_end.pdf_along * abs_cos_at(pt, segment.w) * segment.inv_distance_squared;
+  join.light_end = camera_end.pdf_along * abs_cos_at(qs, segment.w) * segment.inv_distance_squared;
+  if (t >= 3) join.camera_before = camera_end.pdf_back * area_factor_to_previous(pt, camera[t - 2]);
+  if (s >= 2) join.light_before = light_end.pdf_back * area_factor_to_previous(qs, light[s - 2]);
   return join;
 }
 
@@ -130,13 +145,6 @@ double balance_weight(std::span<const PathVertex> light, std::span<const PathVer
   return own / (own + others);  // = 1 / (1 + others / own), with one division
 }
 
-// f at a vertex for light arriving from its predecessor and leaving in unit direction `w`; for
-// an emitter vertex of a light subpath, the emitted radiance in `w`.
-Rgb scattering(const Scene& scene, const PathVertex& v, const Vec3& w) {
-  if (v.kind == VertexKind::kEmitter) return emitted_towards(scene, v, w);
-  return bsdf_eval(scene.material(v.triangle), v.normal, v.to_previous, w);
-}
-
 }  // namespace
 
 double mis_weight(const Scene& scene, std::span<const PathVertex> light,
@@ -145,12 +153,13 @@ double mis_weight(const Scene& scene, std::span<const PathVertex> light,
     return balance_weight(light, camera, emitter_hit_densities(scene, camera), counts);
   }
   const Segment segment = segment_between(light.back(), camera.back());
-  const PathVertex& pt = camera.back();
-  const double camera_end_pdf = camera.size() >= 2
-                                    ? surface_camera_end_pdf(scene, pt, segment)
-                                    : pdf_solid_angle(scene, pt, nullptr, -segment.w);
+  const EndTerms light_end = light_end_terms(scene, light.back(), segment.w);
+  std::optional<PixelPosition> where;
+  const EndTerms camera_end = camera.size() >= 2
+                                  ? surface_camera_end_terms(scene, camera.back(), -segment.w)
+                                  : camera_lens_terms(scene, -segment.w, where);
   return balance_weight(
-      light, camera, connection_densities(scene, light, camera, segment, camera_end_pdf), counts);
+      light, camera, connection_densities(light, camera, segment, light_end, camera_end), counts);
 }
 
 Rgb connect(const Scene& scene, std::span<const PathVertex> light,
@@ -161,57 +170,55 @@ Rgb connect(const Scene& scene, std::span<const PathVertex> light,
   if (counts.count(static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(t)) <= 0.0) {
     return {};
   }
-  Rgb value;
-  Segment segment;
-  double camera_end_pdf = 0.0;  // t = 1: the pixel's density towards x_{s-1}
-  if (s == 0) {                 // the camera subpath found an emitter by itself
+  if (s == 0) {  // the camera subpath found an emitter by itself
     const PathVertex& pt = camera[t - 1];
     if (pt.kind != VertexKind::kSurface) return {};
     const Triangle& tri = scene.triangle(pt.triangle);
     if (tri.emission.is_black() || dot(pt.normal, pt.to_previous) <= 0.0) return {};
-    value = pt.beta * tri.emission;
+    const Rgb value = pt.beta * tri.emission;
+    if (!options.weighted) return value;
+    return value * balance_weight(light, camera, emitter_hit_densities(scene, camera), counts);
+  }
+  const PathVertex& qs = light[s - 1];
+  const PathVertex& pt = camera[t - 1];
+  if (qs.delta || pt.delta) return {};
+  ++counters.connections;
+  const Segment segment = segment_between(qs, pt);
+  if (segment.inv_distance_squared == 0.0) return {};
+  const Vec3& w = segment.w;  // from the light side to the camera side
+  const EndTerms light_end = light_end_terms(scene, qs, w);
+  EndTerms camera_end;
+  Rgb value;
+  if (t == 1) {
+    std::optional<PixelPosition> where;
+    camera_end = camera_lens_terms(scene, -w, where);
+    if (pixel) *pixel = where;
+    if (!where) return {};
+    value = qs.beta * light_end.f *
+            (abs_cos_at(qs, w) * segment.inv_distance_squared * camera_end.pdf_along);
   } else {
-    const PathVertex& qs = light[s - 1];
-    const PathVertex& pt = camera[t - 1];
-    if (qs.delta || pt.delta) return {};
-    ++counters.connections;
-    segment = segment_between(qs, pt);
-    if (segment.inv_distance_squared == 0.0) return {};
-    const Vec3& w = segment.w;  // from the light side to the camera side
-    if (t == 1) {
-      const auto where = scene.camera().project(-w);
-      if (pixel) *pixel = where;
-      if (!where) return {};
-      camera_end_pdf = scene.camera().pixel_pdf(where->cos_theta);
-      value = qs.beta * scattering(scene, qs, w) *
-              (abs_cos_at(qs, w) * segment.inv_distance_squared * camera_end_pdf);
+    camera_end = surface_camera_end_terms(scene, pt, -w);
+    value = qs.beta * light_end.f * camera_end.f * pt.beta *
+            (abs_cos_at(qs, w) * abs_cos_at(pt, w) * segment.inv_distance_squared);
+  }
+  if (value.is_black()) {
+    ++counters.skipped_zero;
+    return {};
+  }
+  if (options.visibility) {
+    if (scene.traits().convex_enclosure) {
+      ++counters.skipped_convex;
     } else {
-      const Rgb f_camera = bsdf_eval(scene.material(pt.triangle), pt.normal, pt.to_previous, -w);
-      value = qs.beta * scattering(scene, qs, w) * f_camera * pt.beta *
-              (abs_cos_at(qs, w) * abs_cos_at(pt, w) * segment.inv_distance_squared);
-    }
-    if (value.is_black()) {
-      ++counters.skipped_zero;
-      return {};
-    }
-    if (options.visibility) {
-      if (scene.traits().convex_enclosure) {
-        ++counters.skipped_convex;
-      } else {
-        ++counters.shadow_rays;
-        if (scene.occluded(qs.position, pt.position)) {
-          ++counters.occluded;
-          return {};
-        }
+      ++counters.shadow_rays;
+      if (scene.occluded(qs.position, pt.position)) {
+        ++counters.occluded;
+        return {};
       }
     }
   }
   if (!options.weighted) return value;
-  if (s == 0)
-    return value * balance_weight(light, camera, emitter_hit_densities(scene, camera), counts);
-  if (t >= 2) camera_end_pdf = surface_camera_end_pdf(scene, camera[t - 1], segment);
   return value * balance_weight(light, camera,
-                                connection_densities(scene, light, camera, segment, camera_end_pdf),
+                                connection_densities(light, camera, segment, light_end, camera_end),
                                 counts);
 }
 

@@ -61,15 +61,6 @@ Rgb emitted_towards(const Scene& scene, const PathVertex& v, const Vec3& directi
   return dot(v.normal, direction) > 0.0 ? t.emission : Rgb{};
 }
 
-double pdf_solid_angle(const Scene& scene, const PathVertex& v, const Vec3* wo, const Vec3& w) {
-  if (v.kind == VertexKind::kCamera) {
-    const auto pixel = scene.camera().project(w);
-    return pixel ? scene.camera().pixel_pdf(pixel->cos_theta) : 0.0;
-  }
-  if (v.kind == VertexKind::kEmitter && wo == nullptr) return emission_pdf(v, w);
-  return bsdf_pdf(scene.material(v.triangle), v.normal, *wo, w);
-}
-
 double emission_pdf(const PathVertex& v, const Vec3& w) {
   if (v.point_light) return 1.0 / (4.0 * kPi);
   const double c = dot(v.normal, w);

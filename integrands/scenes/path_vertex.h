@@ -69,11 +69,6 @@ void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_l
 // One emitter vertex alone (path tracing's next-event estimation).
 PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng);
 
-// Solid-angle density of leaving vertex v in unit direction w: by the camera's pixel sampling,
-// by emission (an emitter vertex and no `wo`), or by BSDF sampling given the unit direction `wo`
-// towards the vertex v was reached from.
-double pdf_solid_angle(const Scene& scene, const PathVertex& v, const Vec3* wo, const Vec3& w);
-
 // Solid-angle density of emission from emitter point v in unit direction w: cosine-weighted
 // into the front of a triangle, uniform for a point light.
 double emission_pdf(const PathVertex& v, const Vec3& w);
