@@ -210,8 +210,9 @@ void BM_EmbreeRawOcclusion(benchmark::State& state, const std::string& name) {
   add_ray_counters(state, r);
 }
 
-// Diagnostic: the raw call, but the ray filled field by field from the double ray the way
-// Scene::intersect fills it (zeroed RTCRayHit, float conversions), with no distance recomputation.
+// Diagnostic: the raw call, but the ray filled field by field from the double ray (zeroed
+// RTCRayHit, scalar float conversions), as Scene::intersect filled it before fill_ray: Embree's
+// 16-byte loads of a ray just written float by float miss store-to-load forwarding.
 void BM_EmbreeRawClosestHitFilled(benchmark::State& state, const std::string& name) {
   const RecordedScene& r = recorded(name);
   const EmbreeScene raw(r.scene->description().triangles);

@@ -20,6 +20,14 @@ double phong_lobe(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& 
   return c > 0.0 ? std::pow(c, m.exponent) : 0.0;
 }
 
+// The Phong BSDF's value and density for a lobe value cos^e α.
+Rgb phong_f(const Material& m, double lobe) {
+  return m.albedo * ((m.exponent + 2.0) * (0.5 * kInvPi) * lobe);
+}
+double phong_pdf(const Material& m, double lobe) {
+  return (m.exponent + 1.0) * (0.5 * kInvPi) * lobe;
+}
+
 }  // namespace
 
 bool is_delta(const Material& material) {
@@ -38,10 +46,9 @@ Rgb bsdf_eval(const Material& material, const Vec3& normal, const Vec3& wo, cons
   if (!same_side(n, wo, wi)) return {};
   switch (material.kind) {
     case MaterialKind::kDiffuse:
-      return material.albedo / kPi;
+      return material.albedo * kInvPi;
     case MaterialKind::kPhong:
-      return material.albedo *
-             ((material.exponent + 2.0) / (2.0 * kPi) * phong_lobe(material, n, wo, wi));
+      return phong_f(material, phong_lobe(material, n, wo, wi));
     case MaterialKind::kMirror:
       return {};
   }
@@ -52,15 +59,36 @@ double bsdf_pdf(const Material& material, const Vec3& normal, const Vec3& wo, co
   const Vec3 n = facing(normal, wo);
   switch (material.kind) {
     case MaterialKind::kDiffuse:
-      return same_side(n, wo, wi) ? dot(n, wi) / kPi : 0.0;
+      return same_side(n, wo, wi) ? dot(n, wi) * kInvPi : 0.0;
     case MaterialKind::kPhong:
       // The lobe is sampled in full (also below the surface, where the sample is then
       // invalid), so the density does not depend on which side wi is on.
-      return (material.exponent + 1.0) / (2.0 * kPi) * phong_lobe(material, n, wo, wi);
+      return phong_pdf(material, phong_lobe(material, n, wo, wi));
     case MaterialKind::kMirror:
       return 0.0;
   }
   return 0.0;
+}
+
+BsdfValue bsdf_value(const Material& material, const Vec3& normal, const Vec3& wo, const Vec3& wi) {
+  const Vec3 n = facing(normal, wo);
+  const bool same = same_side(n, wo, wi);
+  switch (material.kind) {
+    case MaterialKind::kDiffuse:
+      // Off the same side, both densities are 0 as well: wo then lies below wi's side too.
+      if (!same) return {};
+      return {material.albedo * kInvPi, dot(n, wi) * kInvPi, dot(n, wo) * kInvPi};
+    case MaterialKind::kPhong: {
+      // The lobe is symmetric in wo and wi (reflect does not depend on the normal's sign), so
+      // both densities are one.
+      const double lobe = phong_lobe(material, n, wo, wi);
+      const double pdf = phong_pdf(material, lobe);
+      return {same ? phong_f(material, lobe) : Rgb{}, pdf, pdf};
+    }
+    case MaterialKind::kMirror:
+      return {};
+  }
+  return {};
 }
 
 BsdfSample bsdf_sample(const Material& material, const Vec3& normal, const Vec3& wo, double u1,

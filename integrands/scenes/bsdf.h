@@ -27,6 +27,15 @@ Rgb bsdf_eval(const Material& material, const Vec3& normal, const Vec3& wo, cons
 // Density with respect to solid angle of sampling wi given wo; 0 for a mirror.
 double bsdf_pdf(const Material& material, const Vec3& normal, const Vec3& wo, const Vec3& wi);
 
+// f(wo, wi) with both densities, bsdf_pdf(wo, wi) and bsdf_pdf(wi, wo), sharing their work (a
+// connection needs all three at each end).
+struct BsdfValue {
+  Rgb f = {};
+  double pdf = 0.0;          // of sampling wi given wo
+  double pdf_reverse = 0.0;  // of sampling wo given wi
+};
+BsdfValue bsdf_value(const Material& material, const Vec3& normal, const Vec3& wo, const Vec3& wi);
+
 // Samples wi given wo from two uniforms.
 BsdfSample bsdf_sample(const Material& material, const Vec3& normal, const Vec3& wo, double u1,
                        double u2);

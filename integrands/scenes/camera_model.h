@@ -34,6 +34,9 @@ class CameraModel {
   // The pixel a direction from the camera goes through, if any.
   std::optional<PixelPosition> project(const Vec3& direction) const;
 
+  // Cosine between a unit direction and the view axis.
+  double cos_theta(const Vec3& direction) const { return dot(direction, forward_); }
+
   // Solid-angle density of a pixel's ray sampling at a direction with this cosine.
   double pixel_pdf(double cos_theta) const {
     return 1.0 / (pixel_area_ * cos_theta * cos_theta * cos_theta);
@@ -44,6 +47,8 @@ class CameraModel {
  private:
   Vec3 position_, forward_, right_, up_;
   double half_width_ = 0.0, half_height_ = 0.0;  // of the image plane at distance 1
+  // Image plane coordinates to film ones: W / (2 half_width), H / (2 half_height).
+  double film_per_plane_x_ = 0.0, film_per_plane_y_ = 0.0;
   double pixel_area_ = 0.0;
   std::uint32_t width_ = 0, height_ = 0;
 };

@@ -1,6 +1,5 @@
 #include "integrands/scenes/connection.h"
 
-#include <array>
 #include <cmath>
 
 #include "integrands/scenes/bsdf.h"
@@ -8,95 +7,159 @@
 namespace pcbench::scene {
 namespace {
 
-constexpr std::size_t kMaxVertices = 66;  // max_length <= 64, plus the camera and the emitter
-
-struct MisVertex {
-  double pdf_fwd = 0.0;
-  double pdf_rev = 0.0;
-  bool delta = false;
-};
-
 // A zero density marks a delta (specular) step; it must not zero the chain of ratios, whose
 // terms through delta vertices are skipped anyway.
 double remap0(double pdf) {
   return pdf != 0.0 ? pdf : 1.0;
 }
 
-// Density of the camera side sampling emitter point `v` by chance (s = 0): the emitter
-// distribution's area density there.
-double emitter_position_pdf(const Scene& scene, const PathVertex& v) {
-  return scene.emitters().pdf_area(v.triangle);
+// The segment joining x_{s-1} and y_{t-1} (s, t >= 1), computed once for the value and the
+// weight of a connection.
+struct Segment {
+  Vec3 w;                             // unit, from the light side to the camera side
+  double inv_distance_squared = 0.0;  // 0 when the two ends coincide
+};
+
+Segment segment_between(const PathVertex& light_end, const PathVertex& camera_end) {
+  const Vec3 d = camera_end.position - light_end.position;
+  const double distance_squared = dot(d, d);
+  if (distance_squared == 0.0) return {};
+  const double inv_distance = 1.0 / std::sqrt(distance_squared);
+  return {d * inv_distance, inv_distance * inv_distance};
 }
 
-// Density of leaving emitter point `v` towards `next` by emission sampling (area at next).
-double emission_pdf_towards(const Scene& scene, const PathVertex& v, const PathVertex& next) {
-  PathVertex as_emitter = v;
-  as_emitter.kind = VertexKind::kEmitter;
-  return pdf_area_towards(scene, as_emitter, nullptr, next);
+// Converts a solid-angle density at `v` towards its own predecessor into an area density at
+// `previous`: v.to_previous is that direction, so this needs no square root.
+double area_factor_to_previous(const PathVertex& v, const PathVertex& previous) {
+  const Vec3 d = previous.position - v.position;
+  return abs_cos_at(previous, v.to_previous) / dot(d, d);
 }
 
-// f at a vertex for light arriving from `from` and leaving towards `to` (both points); for an
-// emitter vertex of a light subpath, the emitted radiance towards `to`.
-Rgb scattering(const Scene& scene, const PathVertex& v, const Vec3& to) {
-  if (v.kind == VertexKind::kEmitter) return emitted_towards(scene, v, to);
-  return bsdf_eval(scene.material(v.triangle), v.normal, v.to_previous, normalize(to - v.position));
+// The reverse area densities a strategy changes. Every other vertex's pdf_rev, as its walk
+// recorded it, is the density of sampling it from its successor given the successor's own
+// successor, all inside the same subpath, so the connection leaves it valid. These four involve
+// the other side: y_{t-1} and x_{s-1} are each sampled from the other end, and y_{t-2} and
+// x_{s-2} from their successor having been reached through the connection.
+struct JoinDensities {
+  double camera_end = 0.0;     // y_{t-1}: from x_{s-1}; for s = 0, the emitters' position density
+  double camera_before = 0.0;  // y_{t-2} (t >= 3; y_0's pdf_rev enters no ratio)
+  double light_end = 0.0;      // x_{s-1}: from y_{t-1} (s >= 1)
+  double light_before = 0.0;   // x_{s-2} (s >= 2)
+};
+
+// Strategy (0, t): y_{t-1} is on an emitter, which light paths start from by the emitter
+// distribution and leave by cosine-weighted emission.
+JoinDensities emitter_hit_densities(const Scene& scene, std::span<const PathVertex> camera) {
+  const std::size_t t = camera.size();
+  const PathVertex& pt = camera[t - 1];
+  JoinDensities join;
+  join.camera_end = scene.emitters().pdf_area(pt.triangle);
+  if (t >= 3) {
+    join.camera_before =
+        emission_pdf(pt, pt.to_previous) * area_factor_to_previous(pt, camera[t - 2]);
+  }
+  return join;
+}
+
+// One end of a connection seen from the other: what it scatters (or emits) along the segment and
+// its two solid-angle densities there, computed together for the value and the weight.
+struct EndTerms {
+  Rgb f;                   // x_{s-1}: BSDF or emitted radiance; y_{t-1} (t >= 2): BSDF
+  double pdf_along = 0.0;  // of leaving along the segment towards the other end
+  // Of leaving towards its own predecessor, having arrived along the segment (surfaces only).
+  double pdf_back = 0.0;
+};
+
+// x_{s-1} (s >= 1); `w` points from it along the segment.
+EndTerms light_end_terms(const Scene& scene, const PathVertex& qs, const Vec3& w) {
+  if (qs.kind == VertexKind::kEmitter) {
+    return {emitted_towards(scene, qs, w), emission_pdf(qs, w), 0.0};
+  }
+  const BsdfValue b = bsdf_value(scene.material(qs.triangle), qs.normal, qs.to_previous, w);
+  return {b.f, b.pdf, b.pdf_reverse};
+}
+
+// y_{t-1} for t >= 2; `w` points from it along the segment.
+EndTerms surface_camera_end_terms(const Scene& scene, const PathVertex& pt, const Vec3& w) {
+  const BsdfValue b = bsdf_value(scene.material(pt.triangle), pt.normal, pt.to_previous, w);
+  return {b.f, b.pdf, b.pdf_reverse};
+}
+
+// y_0 for t = 1: the pixel `w` goes through, if any, and its density (no f: the camera's
+// importance enters the value through that density).
+EndTerms camera_lens_terms(const Scene& scene, const Vec3& w, std::optional<PixelPosition>& where) {
+  where = scene.camera().project(w);
+  return {{}, where ? scene.camera().pixel_pdf(where->cos_theta) : 0.0, 0.0};
+}
+
+// Strategies with s, t >= 1: the four densities from the two ends' terms.
+JoinDensities connection_densities(std::span<const PathVertex> light,
+                                   std::span<const PathVertex> camera, const Segment& segment,
+                                   const EndTerms& light_end, const EndTerms& camera_end) {
+  const std::size_t s = light.size(), t = camera.size();
+  const PathVertex& qs = light[s - 1];
+  const PathVertex& pt = camera[t - 1];
+  JoinDensities join;
+  join.camera_end = light_end.pdf_along * abs_cos_at(pt, segment.w) * segment.inv_distance_squared;
+  join.light_end = camera_end.pdf_along * abs_cos_at(qs, segment.w) * segment.inv_distance_squared;
+  if (t >= 3) join.camera_before = camera_end.pdf_back * area_factor_to_previous(pt, camera[t - 2]);
+  if (s >= 2) join.light_before = light_end.pdf_back * area_factor_to_previous(qs, light[s - 2]);
+  return join;
+}
+
+// The balance heuristic n_own p_own / Σ n p over the strategies that make the same path, as
+// 1 / (1 + Σ_others (n / n_own) p / p_own): moving the join one vertex along the path multiplies
+// p by that vertex's reverse over its forward density (Veach's thesis, ch. 10).
+double balance_weight(std::span<const PathVertex> light, std::span<const PathVertex> camera,
+                      const JoinDensities& join, const StrategyCounts& counts) {
+  const std::size_t s = light.size(), t = camera.size();
+  const std::size_t k = s + t;  // strategy (i, k - i) makes the same path
+  auto count = [&](std::size_t light_vertices) {
+    return counts.count(static_cast<std::uint32_t>(light_vertices),
+                        static_cast<std::uint32_t>(k - light_vertices));
+  };
+  // Each end is sampled from the other side here, so it is never a delta step of this path.
+  auto camera_delta = [&](std::size_t i) { return i + 1 < t && camera[i].delta; };
+  auto camera_rev = [&](std::size_t i) {
+    return i + 1 == t ? join.camera_end : i + 2 == t ? join.camera_before : camera[i].pdf_rev;
+  };
+  auto light_delta = [&](std::size_t i) { return i + 1 < s && light[i].delta; };
+  auto light_rev = [&](std::size_t i) {
+    return i + 1 == s ? join.light_end : i + 2 == s ? join.light_before : light[i].pdf_rev;
+  };
+
+  double others = 0.0;  // Σ n p / p_own over the other strategies, times n_own
+  double ratio = 1.0;
+  for (std::size_t i = t - 1; i > 0; --i) {  // moving the join towards the camera: (k - i, i)
+    ratio *= remap0(camera_rev(i)) / remap0(camera[i].pdf_fwd);
+    if (!camera_delta(i) && !camera[i - 1].delta) others += ratio * count(k - i);
+  }
+  ratio = 1.0;
+  const bool point_light = s > 0 && light[0].point_light;
+  for (std::size_t i = s; i-- > 0;) {  // moving the join towards the emitter: (i, k - i)
+    ratio *= remap0(light_rev(i)) / remap0(light[i].pdf_fwd);
+    const bool before_delta = i > 0 ? light[i - 1].delta : point_light;
+    if (!light_delta(i) && !before_delta) others += ratio * count(i);
+  }
+  const double own = count(s);
+  return own / (own + others);  // = 1 / (1 + others / own), with one division
 }
 
 }  // namespace
 
 double mis_weight(const Scene& scene, std::span<const PathVertex> light,
                   std::span<const PathVertex> camera, const StrategyCounts& counts) {
-  const std::size_t s = light.size(), t = camera.size();
-  std::array<MisVertex, kMaxVertices> lv, cv;
-  for (std::size_t i = 0; i < s; ++i) lv[i] = {light[i].pdf_fwd, light[i].pdf_rev, light[i].delta};
-  for (std::size_t i = 0; i < t; ++i) {
-    cv[i] = {camera[i].pdf_fwd, camera[i].pdf_rev, camera[i].delta};
+  if (light.empty()) {
+    return balance_weight(light, camera, emitter_hit_densities(scene, camera), counts);
   }
-  const PathVertex* qs = s > 0 ? &light[s - 1] : nullptr;
-  const PathVertex* pt = t > 0 ? &camera[t - 1] : nullptr;
-  const PathVertex* qs_minus = s > 1 ? &light[s - 2] : nullptr;
-  const PathVertex* pt_minus = t > 1 ? &camera[t - 2] : nullptr;
-
-  // The four densities a connection changes: of each end vertex sampled from the other side,
-  // and of each end's predecessor sampled through the connection.
-  if (t > 0) {
-    cv[t - 1].delta = false;
-    cv[t - 1].pdf_rev =
-        s > 0 ? pdf_area_towards(scene, *qs, qs_minus, *pt) : emitter_position_pdf(scene, *pt);
-  }
-  if (pt_minus) {
-    cv[t - 2].pdf_rev = s > 0 ? pdf_area_towards(scene, *pt, qs, *pt_minus)
-                              : emission_pdf_towards(scene, *pt, *pt_minus);
-  }
-  if (s > 0) {
-    lv[s - 1].delta = false;
-    lv[s - 1].pdf_rev = pdf_area_towards(scene, *pt, pt_minus, *qs);
-  }
-  if (qs_minus) lv[s - 2].pdf_rev = pdf_area_towards(scene, *qs, pt, *qs_minus);
-
-  const double own = counts.count(static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(t));
-  double others = 0.0;
-  double ratio = 1.0;
-  for (std::size_t i = t - 1; i > 0; --i) {  // moving the join towards the camera
-    ratio *= remap0(cv[i].pdf_rev) / remap0(cv[i].pdf_fwd);
-    if (!cv[i].delta && !cv[i - 1].delta) {
-      others += ratio *
-                counts.count(static_cast<std::uint32_t>(s + t - i), static_cast<std::uint32_t>(i)) /
-                own;
-    }
-  }
-  ratio = 1.0;
-  const bool point_light = s > 0 && light[0].point_light;
-  for (std::size_t i = s; i-- > 0;) {  // moving the join towards the emitter
-    ratio *= remap0(lv[i].pdf_rev) / remap0(lv[i].pdf_fwd);
-    const bool before_delta = i > 0 ? lv[i - 1].delta : point_light;
-    if (!lv[i].delta && !before_delta) {
-      others += ratio *
-                counts.count(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(s + t - i)) /
-                own;
-    }
-  }
-  return 1.0 / (1.0 + others);
+  const Segment segment = segment_between(light.back(), camera.back());
+  const EndTerms light_end = light_end_terms(scene, light.back(), segment.w);
+  std::optional<PixelPosition> where;
+  const EndTerms camera_end = camera.size() >= 2
+                                  ? surface_camera_end_terms(scene, camera.back(), -segment.w)
+                                  : camera_lens_terms(scene, -segment.w, where);
+  return balance_weight(
+      light, camera, connection_densities(light, camera, segment, light_end, camera_end), counts);
 }
 
 Rgb connect(const Scene& scene, std::span<const PathVertex> light,
@@ -107,51 +170,56 @@ Rgb connect(const Scene& scene, std::span<const PathVertex> light,
   if (counts.count(static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(t)) <= 0.0) {
     return {};
   }
-  Rgb value;
   if (s == 0) {  // the camera subpath found an emitter by itself
     const PathVertex& pt = camera[t - 1];
     if (pt.kind != VertexKind::kSurface) return {};
     const Triangle& tri = scene.triangle(pt.triangle);
     if (tri.emission.is_black() || dot(pt.normal, pt.to_previous) <= 0.0) return {};
-    value = pt.beta * tri.emission;
+    const Rgb value = pt.beta * tri.emission;
+    if (!options.weighted) return value;
+    return value * balance_weight(light, camera, emitter_hit_densities(scene, camera), counts);
+  }
+  const PathVertex& qs = light[s - 1];
+  const PathVertex& pt = camera[t - 1];
+  if (qs.delta || pt.delta) return {};
+  ++counters.connections;
+  const Segment segment = segment_between(qs, pt);
+  if (segment.inv_distance_squared == 0.0) return {};
+  const Vec3& w = segment.w;  // from the light side to the camera side
+  const EndTerms light_end = light_end_terms(scene, qs, w);
+  EndTerms camera_end;
+  Rgb value;
+  if (t == 1) {
+    std::optional<PixelPosition> where;
+    camera_end = camera_lens_terms(scene, -w, where);
+    if (pixel) *pixel = where;
+    if (!where) return {};
+    value = qs.beta * light_end.f *
+            (abs_cos_at(qs, w) * segment.inv_distance_squared * camera_end.pdf_along);
   } else {
-    const PathVertex& qs = light[s - 1];
-    const PathVertex& pt = camera[t - 1];
-    if (qs.delta || pt.delta) return {};
-    ++counters.connections;
-    const Vec3 d = pt.position - qs.position;
-    const double distance_squared = dot(d, d);
-    if (distance_squared == 0.0) return {};
-    const Vec3 w = d / std::sqrt(distance_squared);  // from the light side to the camera side
-    if (t == 1) {
-      const auto where = scene.camera().project(-w);
-      if (pixel) *pixel = where;
-      if (!where) return {};
-      value = qs.beta * scattering(scene, qs, pt.position) *
-              (abs_cos_at(qs, w) / distance_squared * scene.camera().pixel_pdf(where->cos_theta));
+    camera_end = surface_camera_end_terms(scene, pt, -w);
+    value = qs.beta * light_end.f * camera_end.f * pt.beta *
+            (abs_cos_at(qs, w) * abs_cos_at(pt, w) * segment.inv_distance_squared);
+  }
+  if (value.is_black()) {
+    ++counters.skipped_zero;
+    return {};
+  }
+  if (options.visibility) {
+    if (scene.traits().convex_enclosure) {
+      ++counters.skipped_convex;
     } else {
-      const Rgb f_camera = bsdf_eval(scene.material(pt.triangle), pt.normal, pt.to_previous, -w);
-      value = qs.beta * scattering(scene, qs, pt.position) * f_camera * pt.beta *
-              (abs_cos_at(qs, w) * abs_cos_at(pt, w) / distance_squared);
-    }
-    if (value.is_black()) {
-      ++counters.skipped_zero;
-      return {};
-    }
-    if (options.visibility) {
-      if (scene.traits().convex_enclosure) {
-        ++counters.skipped_convex;
-      } else {
-        ++counters.shadow_rays;
-        if (scene.occluded(qs.position, pt.position)) {
-          ++counters.occluded;
-          return {};
-        }
+      ++counters.shadow_rays;
+      if (scene.occluded(qs.position, pt.position)) {
+        ++counters.occluded;
+        return {};
       }
     }
   }
   if (!options.weighted) return value;
-  return value * mis_weight(scene, light, camera, counts);
+  return value * balance_weight(light, camera,
+                                connection_densities(light, camera, segment, light_end, camera_end),
+                                counts);
 }
 
 }  // namespace pcbench::scene

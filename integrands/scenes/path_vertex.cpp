@@ -7,18 +7,10 @@
 namespace pcbench::scene {
 namespace {
 
-// Converts a solid-angle density at `from` to an area density at `to`.
-double to_area(double pdf_solid_angle, const Vec3& from, const PathVertex& to) {
-  const Vec3 d = to.position - from;
-  const double distance_squared = dot(d, d);
-  if (distance_squared == 0.0) return 0.0;
-  return pdf_solid_angle * abs_cos_at(to, d / std::sqrt(distance_squared)) / distance_squared;
-}
-
 // Continues a subpath from its last vertex by BSDF sampling until it has `max_vertices`
-// vertices, leaves the scene, or a sample is invalid. `direction` and `pdf` describe the first
-// extension, already sampled by the caller (camera or emitter).
-void random_walk(const Scene& scene, RandomStream& rng, Vec3 direction, double pdf_solid_angle,
+// vertices, leaves the scene, or a sample is invalid. `direction` and `direction_pdf` (solid angle)
+// describe the first extension, already sampled by the caller (camera or emitter).
+void random_walk(const Scene& scene, RandomStream& rng, Vec3 direction, double direction_pdf,
                  Rgb beta, std::size_t max_vertices, std::vector<PathVertex>& path,
                  std::uint64_t& rays) {
   bool previous_delta = false;
@@ -27,6 +19,8 @@ void random_walk(const Scene& scene, RandomStream& rng, Vec3 direction, double p
     Hit hit;
     ++rays;
     if (!scene.intersect(previous.position, direction, hit)) return;
+    // The segment's length is the hit distance: the area conversions below need no square root.
+    const double inv_distance_squared = 1.0 / (hit.distance * hit.distance);
     PathVertex v;
     v.kind = VertexKind::kSurface;
     v.position = previous.position + hit.distance * direction;
@@ -34,7 +28,9 @@ void random_walk(const Scene& scene, RandomStream& rng, Vec3 direction, double p
     v.triangle = hit.triangle;
     v.to_previous = -direction;
     v.beta = beta;
-    v.pdf_fwd = previous_delta ? 0.0 : to_area(pdf_solid_angle, previous.position, v);
+    v.pdf_fwd = previous_delta
+                    ? 0.0
+                    : direction_pdf * std::abs(dot(v.normal, direction)) * inv_distance_squared;
     const Material& material = scene.material(hit.triangle);
     v.delta = is_delta(material);
     path.push_back(v);
@@ -48,58 +44,35 @@ void random_walk(const Scene& scene, RandomStream& rng, Vec3 direction, double p
     // The density of walking back from the next vertex to the previous one, at the previous.
     PathVertex& current = path.back();
     PathVertex& before = path[path.size() - 2];
-    before.pdf_rev = s.delta
-                         ? 0.0
-                         : to_area(bsdf_pdf(material, current.normal, s.wi, current.to_previous),
-                                   current.position, before);
+    before.pdf_rev = s.delta ? 0.0
+                             : bsdf_pdf(material, current.normal, s.wi, current.to_previous) *
+                                   abs_cos_at(before, current.to_previous) * inv_distance_squared;
     direction = s.wi;
-    pdf_solid_angle = s.pdf;
+    direction_pdf = s.pdf;
     previous_delta = s.delta;
   }
 }
 
 }  // namespace
 
-double abs_cos_at(const PathVertex& v, const Vec3& direction) {
-  if (v.kind == VertexKind::kCamera || v.point_light) return 1.0;
-  return std::abs(dot(v.normal, direction));
-}
-
-Rgb emitted_towards(const Scene& scene, const PathVertex& v, const Vec3& target) {
+Rgb emitted_towards(const Scene& scene, const PathVertex& v, const Vec3& direction) {
   if (v.point_light) return scene.description().point_lights[v.triangle].intensity;
   const Triangle& t = scene.triangle(v.triangle);
-  return dot(v.normal, target - v.position) > 0.0 ? t.emission : Rgb{};
+  return dot(v.normal, direction) > 0.0 ? t.emission : Rgb{};
 }
 
-double pdf_area_towards(const Scene& scene, const PathVertex& v, const PathVertex* previous,
-                        const PathVertex& next) {
-  const Vec3 d = next.position - v.position;
-  const double distance = length(d);
-  if (distance == 0.0) return 0.0;
-  const Vec3 w = d / distance;
-  double pdf = 0.0;
-  if (v.kind == VertexKind::kCamera) {
-    const auto pixel = scene.camera().project(w);
-    if (!pixel) return 0.0;
-    pdf = scene.camera().pixel_pdf(pixel->cos_theta);
-  } else if (v.kind == VertexKind::kEmitter && previous == nullptr) {
-    if (v.point_light) {
-      pdf = 1.0 / (4.0 * kPi);
-    } else {
-      const double c = dot(v.normal, w);
-      pdf = c > 0.0 ? c / kPi : 0.0;
-    }
-  } else {
-    const Material& m = scene.material(v.triangle);
-    pdf = bsdf_pdf(m, v.normal, normalize(previous->position - v.position), w);
-  }
-  return to_area(pdf, v.position, next);
+double emission_pdf(const PathVertex& v, const Vec3& w) {
+  if (v.point_light) return 1.0 / (4.0 * kPi);
+  const double c = dot(v.normal, w);
+  return c > 0.0 ? c * kInvPi : 0.0;
 }
 
 void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& rng,
                        std::uint32_t max_length, std::vector<PathVertex>& path,
                        TraceCounters& counters) {
   path.clear();
+  // A fresh vector: one allocation, not one per doubling.
+  path.reserve(std::size_t{max_length} + 1);
   const CameraModel& camera = scene.camera();
   PathVertex y0;
   y0.kind = VertexKind::kCamera;
@@ -107,9 +80,7 @@ void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& r
   y0.beta = {1.0, 1.0, 1.0};
   path.push_back(y0);
   const Vec3 direction = camera.direction(fx, fy);
-  const auto pixel = camera.project(direction);
-  const double cos_theta = pixel ? pixel->cos_theta : 1.0;
-  random_walk(scene, rng, direction, camera.pixel_pdf(cos_theta), {1.0, 1.0, 1.0},
+  random_walk(scene, rng, direction, camera.pixel_pdf(camera.cos_theta(direction)), {1.0, 1.0, 1.0},
               std::size_t{max_length} + 1, path, counters.camera_rays);
 }
 
@@ -130,6 +101,7 @@ PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng) {
 void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_length,
                       std::vector<PathVertex>& path, TraceCounters& counters) {
   path.clear();
+  path.reserve(std::max<std::size_t>(max_length, 1));  // as in trace_camera_path
   ++counters.light_paths;
   path.push_back(sample_emitter_vertex(scene, rng));
   if (max_length < 2) return;
@@ -144,10 +116,10 @@ void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_l
     pdf = 1.0 / (4.0 * kPi);
   } else {
     direction = sample_cosine_hemisphere(x0.normal, u1, u2);
-    pdf = dot(direction, x0.normal) / kPi;
+    pdf = dot(direction, x0.normal) * kInvPi;
     if (!(pdf > 0.0)) return;
   }
-  const Rgb radiance = emitted_towards(scene, x0, x0.position + direction);
+  const Rgb radiance = emitted_towards(scene, x0, direction);
   const Rgb beta = x0.beta * radiance * (abs_cos_at(x0, direction) / pdf);
   random_walk(scene, rng, direction, pdf, beta, max_length, path, counters.light_rays);
 }

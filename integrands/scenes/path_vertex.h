@@ -6,6 +6,7 @@
 // other way (Veach's thesis, ch. 10; the same bookkeeping as pbrt-v4's BDPT).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -68,15 +69,18 @@ void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_l
 // One emitter vertex alone (path tracing's next-event estimation).
 PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng);
 
-// Area density at `next` of sampling direction next - v from vertex v, given its own
-// predecessor (surface vertices), or from its emission (emitter vertices).
-double pdf_area_towards(const Scene& scene, const PathVertex& v, const PathVertex* previous,
-                        const PathVertex& next);
+// Solid-angle density of emission from emitter point v in unit direction w: cosine-weighted
+// into the front of a triangle, uniform for a point light.
+double emission_pdf(const PathVertex& v, const Vec3& w);
 
-// Radiance emitted from emitter point `v` (on triangle or point light) towards `target`.
-Rgb emitted_towards(const Scene& scene, const PathVertex& v, const Vec3& target);
+// Radiance emitted from emitter point `v` (on triangle or point light) in `direction` (any
+// length: only its side of the triangle matters).
+Rgb emitted_towards(const Scene& scene, const PathVertex& v, const Vec3& direction);
 
 // |cos| at v of the direction to `target`; 1 at a point light or the camera.
-double abs_cos_at(const PathVertex& v, const Vec3& direction);
+inline double abs_cos_at(const PathVertex& v, const Vec3& direction) {
+  if (v.kind == VertexKind::kCamera || v.point_light) return 1.0;
+  return std::abs(dot(v.normal, direction));
+}
 
 }  // namespace pcbench::scene

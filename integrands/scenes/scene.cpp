@@ -79,17 +79,11 @@ bool Scene::intersect(const Vec3& origin, const Vec3& direction, Hit& hit,
                       double max_distance) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit rh{};
-  rh.ray.org_x = static_cast<float>(origin.x);
-  rh.ray.org_y = static_cast<float>(origin.y);
-  rh.ray.org_z = static_cast<float>(origin.z);
-  rh.ray.dir_x = static_cast<float>(direction.x);
-  rh.ray.dir_y = static_cast<float>(direction.y);
-  rh.ray.dir_z = static_cast<float>(direction.z);
-  rh.ray.tnear = static_cast<float>(epsilon_);
-  rh.ray.tfar = static_cast<float>(std::min(max_distance, 1e30));
-  rh.ray.mask = 0xFFFFFFFFu;
+  RTCRayHit rh;
+  fill_ray(rh.ray, origin, direction, static_cast<float>(epsilon_),
+           static_cast<float>(std::min(max_distance, 1e30)));
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(embree_->handle(), &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit.triangle = rh.hit.primID;
@@ -105,21 +99,16 @@ bool Scene::intersect(const Vec3& origin, const Vec3& direction, Hit& hit,
 
 bool Scene::occluded(const Vec3& a, const Vec3& b) const {
   const Vec3 d = b - a;
-  const double distance = length(d);
-  if (distance <= 2.0 * epsilon_) return false;
-  const Vec3 direction = d / distance;
+  const double distance_squared = dot(d, d);
+  if (distance_squared <= 4.0 * epsilon_ * epsilon_) return false;
+  // The ray runs along d itself (Embree takes unnormalised directions), so t is the fraction of
+  // the segment, both ends excluded by epsilon: the direction needs no division, and its
+  // conversion need not wait for the square root.
+  const double margin = epsilon_ / std::sqrt(distance_squared);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay ray{};
-  ray.org_x = static_cast<float>(a.x);
-  ray.org_y = static_cast<float>(a.y);
-  ray.org_z = static_cast<float>(a.z);
-  ray.dir_x = static_cast<float>(direction.x);
-  ray.dir_y = static_cast<float>(direction.y);
-  ray.dir_z = static_cast<float>(direction.z);
-  ray.tnear = static_cast<float>(epsilon_);
-  ray.tfar = static_cast<float>(distance - epsilon_);
-  ray.mask = 0xFFFFFFFFu;
+  RTCRay ray;
+  fill_ray(ray, a, d, static_cast<float>(margin), static_cast<float>(1.0 - margin));
   rtcOccluded1(embree_->handle(), &context, &ray);
   return ray.tfar == -std::numeric_limits<float>::infinity();
 }
