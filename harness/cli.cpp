@@ -304,7 +304,7 @@ void add_run_options(CLI::App* app, RunArguments& args) {
       ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
   app->add_option("--seconds", args.seconds,
                   "equal time: CPU seconds per replicate; a pilot picks the sample count")
-      ->check(CLI::Range(1e-3, kMaxSecondsPerReplicate));
+      ->check(CLI::Range(kMinSecondsPerReplicate, kMaxSecondsPerReplicate));
   app->add_option("--replicates,-r", args.replicates, "independent replicates (default 32)")
       ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
   add_seed_and_threads_options(app, args);

@@ -204,9 +204,11 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
         if (!plan.seconds && !grid.samples)
           plan.seconds = grid.seconds ? grid.seconds : budget.seconds;
       }
-      if (plan.seconds && !(*plan.seconds > 0.0 && *plan.seconds <= kMaxSecondsPerReplicate)) {
-        throw InputError(fmt::format("{}: seconds = {} is out of range (0, {:.0e}]", grid.where,
-                                     *plan.seconds, kMaxSecondsPerReplicate));
+      if (plan.seconds &&
+          !(*plan.seconds >= kMinSecondsPerReplicate && *plan.seconds <= kMaxSecondsPerReplicate)) {
+        throw InputError(fmt::format("{}: seconds = {} is out of range [{:g}, {:.0e}]", grid.where,
+                                     *plan.seconds, kMinSecondsPerReplicate,
+                                     kMaxSecondsPerReplicate));
       }
       if (plan.seconds) plan.samples = 0;
       if (!plan.seconds && (plan.samples < 1 || plan.samples > kMaxSamples)) {

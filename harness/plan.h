@@ -55,6 +55,8 @@ struct BudgetDefaults {
 
 // An equal-time budget is at most this many CPU seconds per replicate.
 inline constexpr double kMaxSecondsPerReplicate = 1e6;
+// And at least this much: below a millisecond a replicate measures the clock, not the estimator.
+inline constexpr double kMinSecondsPerReplicate = 1e-3;
 
 struct RunPlan {
   // The run as requested: 16 hex digits of a hash of estimator, integrand, effective params,

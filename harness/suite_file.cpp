@@ -162,10 +162,10 @@ class SuiteParser {
       fail(pointer, "give \"samples\" or \"seconds\", not both");
     }
     const Json& value = object["seconds"];
-    if (!value.is_number() || !(value.get<double>() > 0.0) ||
+    if (!value.is_number() || !(value.get<double>() >= kMinSecondsPerReplicate) ||
         value.get<double>() > kMaxSecondsPerReplicate) {
-      fail(pointer + "/seconds",
-           fmt::format("must be a number of seconds in (0, {:.0e}]", kMaxSecondsPerReplicate));
+      fail(pointer + "/seconds", fmt::format("must be a number of seconds in [{:g}, {:.0e}]",
+                                             kMinSecondsPerReplicate, kMaxSecondsPerReplicate));
     }
     return value.get<double>();
   }

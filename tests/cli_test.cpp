@@ -71,6 +71,10 @@ TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
                          "corners": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]}]})";
   std::ofstream("scene_seconds.json")
       << R"({"runs": [{"estimator": "pt", "integrand": "furnace", "seconds": 0}]})";
+  // Below a millisecond a replicate would time the clock: the suite key has the CLI's range.
+  std::ofstream("tiny_seconds.json")
+      << R"({"runs": [{"estimator": "plain", "integrand": "genz-gaussian", "seconds": 1e-4}]})";
+
   std::ofstream("truncated.json") << R"({"runs": [{"estimator": "plain", "integ)";
   // JSON has no NaN: a coordinate beyond the double range is the nearest a file gets to one.
   const char* scene_head = R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]},
@@ -108,7 +112,11 @@ TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
        "--seconds: Value 0 not in range"},
       {{"run", "-e", "pt", "-i", "cornell", "--seconds", "2e6"},
        "--seconds: Value 2e6 not in range"},
-      {{"run", "scene_seconds.json"}, "/runs/0/seconds: must be a number of seconds in (0, 1e+06]"},
+      {{"run", "scene_seconds.json"},
+       "/runs/0/seconds: must be a number of seconds in [0.001, 1e+06]"},
+      {{"run", "tiny_seconds.json"},
+       "/runs/0/seconds: must be a number of seconds in [0.001, 1e+06]"},
+      {{"run", "-e", "plain", "-i", "genz-gaussian", "--seconds", "1e-4"}, "--seconds"},
       {{"run", "-e", "plain", "-i", "missing.scene.json"}, "missing.scene.json"},
       {{"run", "-e", "plain", "-i", "no_emitter.scene.json"}, "emitter"},
       {{"run", "-e", "plain", "-i", "cornel"}, "valid integrands"},
