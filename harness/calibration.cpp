@@ -40,11 +40,12 @@ struct SeedOutcome {
 // `keep` seeds.
 std::vector<SeedOutcome> run_seeds(const RunPlan& plan, const Reference& reference,
                                    std::uint64_t first_seed, std::uint32_t count,
-                                   std::uint32_t keep) {
+                                   std::uint32_t keep, const std::atomic<bool>* interrupted) {
   std::vector<SeedOutcome> outcomes(count);
   tbb::parallel_for(std::uint32_t{0}, count, [&](std::uint32_t i) {
     const std::uint64_t seed = first_seed + i;
-    RunResult run = execute_run(plan, {.seed = seed});
+    RunResult run = execute_run(plan, {.seed = seed, .interrupted = interrupted});
+    if (run.status == RunStatus::kNotRun) throw CalibrationInterrupted();
     if (run.status != RunStatus::kOk) {
       throw std::runtime_error(fmt::format("calibration: {} on {} with seed {} did not finish: {}",
                                            plan.estimator->name, plan.integrand->name, seed,
@@ -203,7 +204,8 @@ CalibrationResult calibrate(const CalibrationOptions& options) {
         calibrated ? std::max(options.seeds, is_power ? options.power_seeds : options.seeds)
                    : options.power_seeds;
     std::vector<SeedOutcome> outcomes =
-        run_seeds(plan, reference, options.first_seed, count, is_power ? options.power_seeds : 0);
+        run_seeds(plan, reference, options.first_seed, count, is_power ? options.power_seeds : 0,
+                  options.interrupted);
     if (calibrated) {
       CalibrationRow row;
       row.estimator = name;
@@ -390,7 +392,13 @@ void print_calibration(const CalibrationResult& result, std::ostream& out) {
 
 int run_calibration(const CalibrationOptions& options, const SessionOptions& session,
                     std::ostream& out, std::ostream& err) {
-  const CalibrationResult result = calibrate(options);
+  CalibrationResult result;
+  try {
+    result = calibrate(options);
+  } catch (const CalibrationInterrupted&) {
+    err << "pcbench: calibration interrupted: no report (the self-test needs all its seeds)\n";
+    return kExitInterrupted;
+  }
   if (!session.quiet) print_calibration(result, out);
   ReportSections sections;
   sections.calibration = nlohmann::json(calibration_json(result));

@@ -16,9 +16,11 @@
 // (seeds run in parallel, each into its own slot; a run is bitwise the same for any thread count).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <iosfwd>
 #include <nlohmann/json_fwd.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -55,6 +57,9 @@ struct CalibrationOptions {
   // at 1e-3 each, a correct verifier fails the self-test with probability <= 10 × 1e-3 = 1%
   // (Bonferroni).
   double pass_threshold = 1e-3;
+  // Ctrl-C: the runs stop, and calibrate throws CalibrationInterrupted (a self-test over part of
+  // its seeds would be another test, so nothing is reported).
+  const std::atomic<bool>* interrupted = nullptr;
   // The power curve: the estimator it injects bias into (its calibration runs are reused when it
   // is among `estimators`), the injected relative biases δ, and the seeds (the first power_seeds
   // of the calibration seeds). An empty list of δ skips the power curve.
@@ -116,6 +121,10 @@ struct CalibrationResult {
 // exact reference, a power curve on a zero reference, fewer than 2 replicates, no seeds) and
 // std::runtime_error if a run fails or produces non-finite samples.
 CalibrationResult calibrate(const CalibrationOptions& options);
+
+struct CalibrationInterrupted : std::runtime_error {
+  CalibrationInterrupted() : std::runtime_error("calibration interrupted") {}
+};
 
 // The report's optional top-level `calibration` object ($defs/calibration in
 // results/report.schema.json). Non-finite numbers (none expected) are written as null.

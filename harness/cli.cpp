@@ -529,6 +529,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     if (verify->parsed()) return run_command(verify_args, *verify, argv, out, err, interrupted);
     if (calibrate_app->parsed()) {
       prepare_out_dir(calibrate_args.out_dir, calibrate_app->count("--out") > 0);
+      calibration.interrupted = interrupted;
       return run_calibration(calibration, session_options(calibrate_args, argv, interrupted), out,
                              err);
     }
