@@ -34,8 +34,9 @@ nlohmann::ordered_json image_error_fields(std::span<const Image> replicates,
   // The reference's own variance, absolute and relative, averaged over values.
   Errors own;
   if (reference_stderr) {
-    Image zero(reference.width, reference.height);
-    own = errors_of(*reference_stderr, zero, scale);
+    for (double se : reference_stderr->values) own.mse += se * se;
+    own.mse /= static_cast<double>(std::max<std::size_t>(1, reference_stderr->values.size()));
+    own.rel = relative_variance(reference, *reference_stderr);
   }
   const Errors of_mean = errors_of(mean, reference, scale);
   double rel_replicate = 0.0, cpu = 0.0;

@@ -182,6 +182,16 @@ std::vector<double> relative_error_scale(const Image& reference) {
   return scale;
 }
 
+double relative_variance(const Image& mean, const Image& standard_error) {
+  const std::vector<double> scale = relative_error_scale(mean);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < scale.size(); ++i) {
+    const double r = scale[i] > 0.0 ? standard_error.values[i] / scale[i] : 0.0;
+    sum += r * r;
+  }
+  return scale.empty() ? 0.0 : sum / static_cast<double>(scale.size());
+}
+
 PixelStatistics pixel_statistics(std::span<const Image> replicates) {
   check_replicates(replicates);
   const Image& first = replicates.front();

@@ -44,6 +44,10 @@ PixelStatistics pixel_statistics(std::span<const Image> replicates);
 inline constexpr double kRelativeErrorFloor = 1e-2;
 // That denominator for every value of `reference`.
 std::vector<double> relative_error_scale(const Image& reference);
+// The relative variance of an image with these standard errors: the mean over pixels and
+// channels of se² / (mean + floor)², what it adds to every relative MSE measured against it (a
+// cached reference's quality; what image errors subtract for a Monte Carlo reference).
+double relative_variance(const Image& mean, const Image& standard_error);
 
 // z = (mean_a - mean_b) / sqrt(se_a² + se_b²) per pixel and channel. Where the denominator is 0,
 // z is 0 for equal means and ±inf otherwise (never the NaN of 0/0); NaN only from NaN input.

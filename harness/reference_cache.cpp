@@ -41,14 +41,7 @@ std::string stem(const scene::SceneDescription& scene) {
 }
 
 const char* const kChannels[kImageChannels] = {"R", "G", "B"};
-
-ExrChannel channel_of(const Image& image, std::uint32_t c, const std::string& name) {
-  ExrChannel out{.name = name, .values = std::vector<float>(image.pixel_count())};
-  for (std::size_t i = 0; i < out.values.size(); ++i) {
-    out.values[i] = static_cast<float>(image.values[i * kImageChannels + c]);
-  }
-  return out;
-}
+constexpr const char* kStderrLayer = "stderr";
 
 }  // namespace
 
@@ -72,16 +65,6 @@ std::string reference_key(const scene::SceneDescription& scene) {
   return fmt::format("{:016x}", hash);
 }
 
-double relative_variance(const Image& mean, const Image& standard_error) {
-  const std::vector<double> scale = relative_error_scale(mean);
-  double sum = 0.0;
-  for (std::size_t i = 0; i < scale.size(); ++i) {
-    const double r = scale[i] > 0.0 ? standard_error.values[i] / scale[i] : 0.0;
-    sum += r * r;
-  }
-  return scale.empty() ? 0.0 : sum / static_cast<double>(scale.size());
-}
-
 fs::path ReferenceCache::image_path(const scene::SceneDescription& scene) const {
   return folder_ / (stem(scene) + ".exr");
 }
@@ -94,11 +77,11 @@ std::optional<ReferenceImage> ReferenceCache::find(const scene::SceneDescription
   try {
     std::ifstream in(json_file);
     ReferenceImage out;
-    const nlohmann::json meta = nlohmann::json::parse(in);
+    out.provenance = nlohmann::ordered_json::parse(in);
+    const nlohmann::ordered_json& meta = out.provenance;
     if (meta.value("format", "") != kFormat || meta.value("key", "") != reference_key(scene)) {
       throw std::runtime_error("its format or key is not this scene's");
     }
-    out.provenance = nlohmann::ordered_json::parse(meta.dump());
     std::uint32_t width = 0, height = 0;
     const std::vector<ExrChannel> channels = read_exr(image_file, width, height);
     if (width != scene.width || height != scene.height) {
@@ -110,9 +93,10 @@ std::optional<ReferenceImage> ReferenceCache::find(const scene::SceneDescription
     std::uint32_t found = 0;
     for (const ExrChannel& ch : channels) {
       for (std::uint32_t c = 0; c < kImageChannels; ++c) {
-        Image* target = ch.name == kChannels[c]                            ? &out.mean
-                        : ch.name == std::string("stderr.") + kChannels[c] ? &out.standard_error
-                                                                           : nullptr;
+        Image* target = ch.name == kChannels[c] ? &out.mean
+                        : ch.name == std::string(kStderrLayer) + "." + kChannels[c]
+                            ? &out.standard_error
+                            : nullptr;
         if (!target) continue;
         ++found;
         for (std::size_t i = 0; i < ch.values.size(); ++i) {
@@ -138,10 +122,9 @@ bool ReferenceCache::store(const scene::SceneDescription& scene, const Reference
   if (const auto cached = find(scene, warn)) {
     if (relative_variance(cached->mean, cached->standard_error) <= quality) return false;
   }
-  std::vector<ExrChannel> channels;
-  for (std::uint32_t c = 0; c < kImageChannels; ++c) {
-    channels.push_back(channel_of(image.mean, c, kChannels[c]));
-    channels.push_back(channel_of(image.standard_error, c, std::string("stderr.") + kChannels[c]));
+  std::vector<ExrChannel> channels = rgb_channels(image.mean);
+  for (ExrChannel& c : rgb_channels(image.standard_error, kStderrLayer)) {
+    channels.push_back(std::move(c));
   }
   const fs::path image_file = image_path(scene);
   fs::create_directories(folder_);

@@ -39,10 +39,6 @@ struct ReferenceImage {
 // 16 hex digits of the hash over the scene's traced content (see above).
 std::string reference_key(const scene::SceneDescription& scene);
 
-// The quality of a reference: the mean over pixels and channels of se² / (mean + floor)², the
-// relative variance it adds to every relative MSE measured against it (image_statistics.h).
-double relative_variance(const Image& mean, const Image& standard_error);
-
 class ReferenceCache {
  public:
   explicit ReferenceCache(std::filesystem::path folder) : folder_(std::move(folder)) {}

@@ -11,6 +11,7 @@
 
 #include "harness/cli.h"
 #include "harness/image_errors.h"
+#include "harness/image_statistics.h"
 #include "integrands/scenes/built_in_scenes.h"
 #include "tests/test_support.h"
 
