@@ -158,13 +158,17 @@ void prepare_out_dir(const std::string& out_dir, bool given) {
   }
 }
 
+// --threads, or all cores.
+unsigned thread_count(const RunArguments& args) {
+  return args.threads > 0 ? args.threads : static_cast<unsigned>(tbb::info::default_concurrency());
+}
+
 // Threads, output, argv and the interrupt flag, as every command that writes a report uses them.
 SessionOptions session_options(const RunArguments& args, const std::vector<std::string>& argv,
                                const std::atomic<bool>* interrupted) {
   SessionOptions session;
   session.seed = args.seed;
-  session.threads =
-      args.threads > 0 ? args.threads : static_cast<unsigned>(tbb::info::default_concurrency());
+  session.threads = thread_count(args);
   session.quiet = args.quiet;
   session.argv = argv;
   session.interrupted = interrupted;
@@ -354,9 +358,7 @@ int reference_command_line(RunArguments args, const std::vector<std::string>& ar
   budget.forced_samples = args.samples > 0 ? args.samples : kDefaultReferenceSamples;
   budget.forced_replicates = args.replicates > 0 ? args.replicates : kDefaultReferenceReplicates;
   const std::vector<RunPlan> plans = plan_runs({grid}, budget);
-  const unsigned threads =
-      args.threads > 0 ? args.threads : static_cast<unsigned>(tbb::info::default_concurrency());
-  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, thread_count(args));
   return run_reference_command(
       plans,
       {.seed = args.seed, .cache = args.reference_cache, .argv = argv, .interrupted = interrupted},
