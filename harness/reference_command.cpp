@@ -45,11 +45,11 @@ int run_reference_command(const std::vector<RunPlan>& plans, const ReferenceOpti
   int status = kExitOk;
   for (const RunPlan& plan : plans) {
     const scene::SceneDescription& scene = checked_scene(plan).scene().description();
-    // Streams of their own: a reference must be independent of every run measured against it,
-    // even a run of the same estimator with the same budget and seed.
     err << fmt::format("rendering {} {}x{} with {}: {} spp × {} replicates\n", plan.integrand->name,
                        scene.width, scene.height, plan.estimator->name, plan.samples,
                        plan.replicates);
+    // Streams of their own: a reference must be independent of every run measured against it,
+    // even a run of the same estimator with the same budget and seed.
     RunPlan own = plan;
     own.id_hash = fnv1a(plan.id_hash, "reference-image");
     const RunResult result =
