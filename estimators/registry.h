@@ -23,6 +23,11 @@ struct DeclaredWorkload {
   ParamText integrand_params = {};
   std::uint64_t samples = 0;
   std::uint32_t replicates = 0;
+  // Honest estimators run beside the control. A scene control is caught by the tile tests
+  // against an honest run (a scene without an exact image has no reference to test one run
+  // against), so `verify -e CONTROL` runs these too; the control is then flagged only if a
+  // comparison with them says so.
+  std::vector<std::string> partners = {};
 };
 
 struct EstimatorEntry {

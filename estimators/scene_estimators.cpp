@@ -133,7 +133,8 @@ std::vector<EstimatorEntry> scene_only_estimators() {
        .uniform_mix = 0.0,
        .flaw = SceneFlaw::kVisibleOnlyImportance},
       true);
-  visible.declared = DeclaredWorkload{.integrand = "door-ajar", .samples = 16, .replicates = 16};
+  visible.declared = DeclaredWorkload{
+      .integrand = "door-ajar", .samples = 16, .replicates = 16, .partners = {"plain"}};
   table.push_back(std::move(visible));
   EstimatorEntry per_vertex =
       scene_only("ctl-scene-lvc-per-vertex",
@@ -143,7 +144,8 @@ std::vector<EstimatorEntry> scene_only_estimators() {
                   .light_paths = 1024,
                   .flaw = SceneFlaw::kPerVertexNormalisation},
                  true);
-  per_vertex.declared = DeclaredWorkload{.integrand = "cornell", .samples = 16, .replicates = 16};
+  per_vertex.declared = DeclaredWorkload{
+      .integrand = "cornell", .samples = 16, .replicates = 16, .partners = {"plain"}};
   table.push_back(std::move(per_vertex));
   return table;
 }

@@ -101,7 +101,8 @@ std::map<std::string, std::vector<std::string>> params_from_flags(const RunArgum
 }
 
 // `verify -e CONTROL` without an integrand: each negative control on its declared integrand
-// and budget (the command line's --param and budget flags still apply).
+// and budget, with the honest partners it is compared with (the command line's --param and
+// budget flags still apply).
 std::vector<GridRequest> declared_grids(const RunArguments& args) {
   std::vector<GridRequest> grids;
   for (const std::string& name : args.estimators) {
@@ -112,7 +113,10 @@ std::vector<GridRequest> declared_grids(const RunArguments& args) {
           "own integrand)",
           name));
     }
-    GridRequest grid{.estimators = {name},
+    std::vector<std::string> estimators = {name};
+    estimators.insert(estimators.end(), entry.declared->partners.begin(),
+                      entry.declared->partners.end());
+    GridRequest grid{.estimators = std::move(estimators),
                      .integrands = {entry.declared->integrand},
                      .samples = entry.declared->samples,
                      .replicates = entry.declared->replicates,

@@ -96,15 +96,19 @@ void check_options(double alpha, const TileOptions& options) {
   if (!(options.power > 0.0 && options.power < 1.0)) {
     throw std::invalid_argument(fmt::format("power {} is not in (0, 1)", options.power));
   }
+  if (options.family_size == 0) throw std::invalid_argument("family size 0");
 }
 
 // From the raw test of each tile and channel (in the order of tile_means): Holm over all of
-// them, the minimum detectable bias at the Bonferroni share, and which tiles are bright.
+// them, the minimum detectable bias at the share of alpha that decides (TileOptions::
+// family_size), and which tiles are bright.
 TileTestResult decide_tiles(const std::vector<TwoSampleTest>& raw, const Tiling& tiling,
                             double alpha, const TileOptions& options) {
   TileTestResult out;
   out.tests = static_cast<std::uint32_t>(raw.size());
-  const double share = alpha / static_cast<double>(raw.size());
+  const double share =
+      alpha / (static_cast<double>(options.family_size) * static_cast<double>(raw.size()));
+  out.detection_share = share;
 
   // The image mean of each channel, over a and b alike, as the tile means are.
   std::array<double, kImageChannels> image_mean = {};
@@ -270,6 +274,13 @@ TileTestResult test_tiles_against_exact(std::span<const Image> a, const Image& e
     raw[k].dof = count - 1.0;
   }
   return decide_tiles(raw, tiling, alpha, options);
+}
+
+const TileTest& brightest_tile(const TileTestResult& result) {
+  if (result.tiles.empty()) throw std::invalid_argument("no tiles");
+  return *std::max_element(
+      result.tiles.begin(), result.tiles.end(),
+      [](const TileTest& x, const TileTest& y) { return x.mean_a < y.mean_a; });
 }
 
 PixelTestSummary summarize_z(const Image& z, std::span<const Image> a, std::span<const Image> b) {

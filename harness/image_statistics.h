@@ -59,6 +59,13 @@ struct TileOptions {
   std::uint32_t tile = 8;  // edge length in pixels; edge tiles may be smaller
   double bright_fraction = 0.1;
   double power = 0.8;  // of the minimum detectable bias
+  // How many tested verdicts the comparison is decided with, itself included: a session adjusts
+  // the comparison's p-value again with Holm over its whole family (statistics.h,
+  // decide_family). The detectable bias is computed at the threshold that then decides, the
+  // Bonferroni share alpha / (family_size × tests): Holm's first step at both levels (its later
+  // steps are less strict, so the figure is conservative, never optimistic). 1 for a comparison
+  // decided alone.
+  std::uint32_t family_size = 1;
 };
 
 struct TileTest {
@@ -67,7 +74,8 @@ struct TileTest {
   double statistic = 0, dof = 0, p_value = 1, p_adjusted = 1;
   // Tile mean (average of a and b) > 0 and >= bright_fraction x the image mean of the channel.
   bool bright = false;
-  // Absolute, at `power`, for a two-sided test at the Bonferroni share alpha / tests.
+  // Absolute, at `power`, for a two-sided test at the Bonferroni share
+  // alpha / (family_size × tests), with the Student quantiles of the tile test's dof.
   double min_detectable_bias = 0;
 };
 
@@ -75,7 +83,10 @@ struct TileTestResult {
   std::vector<TileTest> tiles;  // row of tiles by row, then channel within a tile
   std::uint32_t tests = 0;      // every tile x 3 channels
   double min_p_adjusted = 1;    // Holm over all tile/channel tests
-  bool rejected = false;        // min_p_adjusted <= alpha
+  bool rejected = false;        // min_p_adjusted <= alpha (the comparison decided alone)
+  // The share of alpha each tile's raw p-value is held to for the power statement:
+  // alpha / (family_size × tests).
+  double detection_share = 0;
   // Max over bright tiles of min_detectable_bias / tile mean; compare with
   // kMaxBrightRelativeMdb. NaN if some bright tile's is NaN, 0 without bright tiles.
   double worst_bright_relative_mdb = 0;
@@ -87,7 +98,7 @@ struct TileTestResult {
 // tested exactly (p = 1 for equal means, 0 otherwise). A tile holding a non-finite value gets
 // p = 0: a NaN or inf pixel is a defect that must not pass. Throws std::invalid_argument for
 // fewer than 2 replicates on a side, images of different sizes, an empty image, alpha outside
-// (0, 1), tile 0, or power outside (0, 1).
+// (0, 1), tile 0, power outside (0, 1), or family_size 0.
 TileTestResult compare_tiles(std::span<const Image> a, std::span<const Image> b, double alpha,
                              const TileOptions& options = {});
 
@@ -95,6 +106,10 @@ TileTestResult compare_tiles(std::span<const Image> a, std::span<const Image> b,
 // against the exact tile mean.
 TileTestResult test_tiles_against_exact(std::span<const Image> a, const Image& exact, double alpha,
                                         const TileOptions& options = {});
+
+// The tile and channel with the largest mean of a: where the self-check (and the calibration of
+// the tile test) injects a bias. `result` must hold tiles.
+const TileTest& brightest_tile(const TileTestResult& result);
 
 // Pixel-level guards, as in the verification of analytic runs. `b` holds the other estimator's
 // replicates, or just the exact image.

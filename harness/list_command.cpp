@@ -1,6 +1,7 @@
 #include "harness/list_command.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -57,7 +58,8 @@ void print_registry(std::ostream& out, bool as_json) {
         entry["declared"] = Json{{"integrand", e.declared->integrand},
                                  {"params", e.declared->integrand_params},
                                  {"samples", e.declared->samples},
-                                 {"replicates", e.declared->replicates}};
+                                 {"replicates", e.declared->replicates},
+                                 {"partners", e.declared->partners}};
       }
       estimators.push_back(std::move(entry));
     }
@@ -98,8 +100,12 @@ void print_registry(std::ostream& out, bool as_json) {
   for (const EstimatorEntry& e : scene_estimator_registry()) {
     out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
     if (e.declared) {
-      out << fmt::format("      biased on {} at {} samples per pixel x {} replicates\n",
-                         e.declared->integrand, e.declared->samples, e.declared->replicates);
+      out << fmt::format("      biased on {} at {} samples per pixel x {} replicates{} (`verify -e {}`)\n",
+                         e.declared->integrand, e.declared->samples, e.declared->replicates,
+                         e.declared->partners.empty()
+                             ? ""
+                             : fmt::format(", against {}", fmt::join(e.declared->partners, ", ")),
+                         e.name);
     }
     print_params(out, e.scene_params);
   }

@@ -173,6 +173,7 @@ nlohmann::ordered_json comparison_json(const Comparison& c) {
     out["samples_factor_for_required_mdb"] =
         finite_or_null(tile_samples_factor(*c.tile_relative_mdb));
     out["bright_tiles"] = c.bright_tiles;
+    out["tile_alpha_share"] = c.tile_alpha_share;
   }
   return out;
 }

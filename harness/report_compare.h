@@ -45,6 +45,9 @@ struct Comparison {
   // brighter than 10% of the image mean (the power requirement is <= 5%), and their count.
   std::optional<double> tile_relative_mdb = {};
   std::uint32_t bright_tiles = 0;
+  // Scene tile tests: the per-tile share of alpha that figure is computed at, alpha / (m × T)
+  // with m the session family's tested verdicts and T the comparison's tile×channel tests.
+  double tile_alpha_share = 0.0;
 };
 
 // A run id present in both reports but not compared, and why (a run not ok, < 2 replicates).

@@ -50,9 +50,10 @@ Verdict tile_verdict(const TileTestResult& t, std::string expect) {
   const double factor = tile_samples_factor(t.worst_bright_relative_mdb);
   v.reason = fmt::format(
       "{} tile×channel tests, smallest Holm-adjusted p {:.3g}; detectable tile bias ≤ {:.2f}% "
-      "of the tile mean on {} bright tiles (required ≤ {:.0f}%{})",
+      "of the tile mean on {} bright tiles at the family's per-tile threshold {:.3g} (required "
+      "≤ {:.0f}%{})",
       t.tests, t.min_p_adjusted, 100.0 * t.worst_bright_relative_mdb, t.bright_tiles,
-      100.0 * kMaxBrightRelativeMdb,
+      t.detection_share, 100.0 * kMaxBrightRelativeMdb,
       std::isnan(factor) ? ""
       : factor > 1.0     ? fmt::format(": met at about {:.3g}× the samples per pixel", factor)
                          : ": met");
@@ -71,6 +72,7 @@ Comparison tile_comparison(const RunRecord& a, std::string b_id, std::string b_n
   c.expect = std::move(expect);
   c.replicates_a = a.result.images.size();
   c.tile_relative_mdb = t.worst_bright_relative_mdb;
+  c.tile_alpha_share = t.detection_share;
   c.bright_tiles = t.bright_tiles;
   return c;
 }
@@ -112,51 +114,86 @@ const RunRecord* best_other(const std::vector<std::pair<double, const RunRecord*
 
 }  // namespace
 
-std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
-    const std::vector<RunRecord>& records, double alpha) {
-  std::vector<std::pair<Comparison, Verdict>> out;
+namespace {
+
+// One tile test a session's scene runs call for: run a against run b, or against the exact
+// image (b null); `inject` marks the pair that also carries the scene's self-check.
+struct PlannedTileTest {
+  const RunRecord* a = nullptr;
+  const RunRecord* b = nullptr;
+  bool inject = false;
+};
+
+// Every tile test of the session's scene runs, in report order, before any is computed: the
+// count fixes the family size that every detectable bias is computed at.
+std::vector<PlannedTileTest> plan_tile_tests(const std::vector<RunRecord>& records) {
+  std::vector<PlannedTileTest> planned;
   std::map<const IntegrandEntry*, bool> injected;  // one self-check per scene
   for (std::size_t i = 0; i < records.size(); ++i) {
     const RunRecord& a = records[i];
     const SceneIntegrand* scene = scene_of(a);
     if (!scene) continue;
-    const bool a_biased = a.plan->estimator->biased;
-    if (scene->exact_radiance()) {
-      const TileTestResult t = test_tiles_against_exact(
-          a.result.images, constant_image(scene->scene(), *scene->exact_radiance()), alpha);
-      const std::string expect = a_biased ? "biased" : "consistent";
-      out.emplace_back(tile_comparison(a, "exact", "exact", t, expect), tile_verdict(t, expect));
-    }
+    if (scene->exact_radiance()) planned.push_back({.a = &a});
     if (!samples_all_paths(a, scene->scene())) continue;
     for (std::size_t j = i + 1; j < records.size(); ++j) {
       const RunRecord& b = records[j];
       if (!scene_of(b) || !same_scene(a, b) || !samples_all_paths(b, scene->scene())) continue;
-      const int biased = a_biased + b.plan->estimator->biased;
+      const int biased = a.plan->estimator->biased + b.plan->estimator->biased;
       if (biased == 2) continue;
-      const TileTestResult t = compare_tiles(a.result.images, b.result.images, alpha);
-      const std::string expect = biased ? "biased" : "consistent";
-      out.emplace_back(tile_comparison(a, b.plan->id, b.plan->estimator->name, t, expect),
-                       tile_verdict(t, expect));
-      // The verifier's own check: a bias of twice the reported detectable size, put into the
-      // brightest tested tile of one honest run, must be flagged.
-      if (biased == 0 && !injected[a.plan->integrand] && !t.tiles.empty()) {
-        injected[a.plan->integrand] = true;
-        const auto brightest = std::max_element(
-            t.tiles.begin(), t.tiles.end(),
-            [](const TileTest& x, const TileTest& y) { return x.mean_a < y.mean_a; });
-        const double bias = 2.0 * brightest->min_detectable_bias;
-        const TileTestResult shifted =
-            compare_tiles(with_tile_bias(a.result.images, *brightest, TileOptions{}.tile, bias),
-                          b.result.images, alpha);
-        Comparison c = tile_comparison(
-            a, b.plan->id,
-            b.plan->estimator->name + fmt::format(" (tile {},{} channel {} + 2×MDB = {:.3g})",
-                                                  brightest->tile_x, brightest->tile_y,
-                                                  brightest->channel, bias),
-            shifted, "biased");
-        c.a += "+injected";
-        out.emplace_back(std::move(c), tile_verdict(shifted, "biased"));
-      }
+      const bool inject = biased == 0 && !injected[a.plan->integrand];
+      if (inject) injected[a.plan->integrand] = true;
+      planned.push_back({.a = &a, .b = &b, .inject = inject});
+    }
+  }
+  return planned;
+}
+
+std::size_t family_members(const std::vector<PlannedTileTest>& planned) {
+  return static_cast<std::size_t>(std::count_if(planned.begin(), planned.end(),
+                                                [](const PlannedTileTest& t) { return t.inject; })) +
+         planned.size();
+}
+
+}  // namespace
+
+std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
+    const std::vector<RunRecord>& records, double alpha, std::size_t other_tested) {
+  const std::vector<PlannedTileTest> planned = plan_tile_tests(records);
+  const TileOptions options{
+      .family_size = static_cast<std::uint32_t>(other_tested + family_members(planned))};
+  std::vector<std::pair<Comparison, Verdict>> out;
+  for (const PlannedTileTest& p : planned) {
+    const RunRecord& a = *p.a;
+    const SceneIntegrand& scene = *scene_of(a);
+    if (p.b == nullptr) {
+      const TileTestResult t = test_tiles_against_exact(
+          a.result.images, constant_image(scene.scene(), *scene.exact_radiance()), alpha, options);
+      const std::string expect = a.plan->estimator->biased ? "biased" : "consistent";
+      out.emplace_back(tile_comparison(a, "exact", "exact", t, expect), tile_verdict(t, expect));
+      continue;
+    }
+    const RunRecord& b = *p.b;
+    const TileTestResult t = compare_tiles(a.result.images, b.result.images, alpha, options);
+    const bool biased = a.plan->estimator->biased || b.plan->estimator->biased;
+    const std::string expect = biased ? "biased" : "consistent";
+    out.emplace_back(tile_comparison(a, b.plan->id, b.plan->estimator->name, t, expect),
+                     tile_verdict(t, expect));
+    // The verifier's own check: a bias of twice the reported detectable size (at the family's
+    // threshold), put into the brightest tested tile of one honest run, must be flagged.
+    if (p.inject && !t.tiles.empty()) {
+      const TileTest& brightest = brightest_tile(t);
+      const double bias = 2.0 * brightest.min_detectable_bias;
+      const TileTestResult shifted = compare_tiles(
+          with_tile_bias(a.result.images, brightest, options.tile, bias), b.result.images, alpha,
+          options);
+      Comparison c = tile_comparison(
+          a, b.plan->id,
+          b.plan->estimator->name + fmt::format(" (tile {},{} channel {} + 2×MDB = {:.3g})",
+                                                brightest.tile_x, brightest.tile_y,
+                                                brightest.channel, bias),
+          shifted, "biased");
+      c.a += "+injected";
+      out.emplace_back(std::move(c), tile_verdict(shifted, "biased"));
     }
   }
   return out;

@@ -17,9 +17,12 @@
 
 namespace pcbench {
 
-// The tile tests of a session's scene runs, as comparisons for the session's family.
+// The tile tests of a session's scene runs, as comparisons for the session's family, which holds
+// them and `other_tested` tested verdicts more and is decided at `alpha`: every detectable bias
+// (and so the self-check's injection) is computed at the threshold that family applies
+// (TileOptions::family_size).
 std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
-    const std::vector<RunRecord>& records, double alpha);
+    const std::vector<RunRecord>& records, double alpha, std::size_t other_tested);
 
 // Writes each scene run's EXR files under folder/images/ (with its strategy images where the run
 // gathered them: harness/strategy_image_file.h) and fills its `image` section. Its errors are

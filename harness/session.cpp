@@ -367,14 +367,19 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   if (options.compare_pairwise || options.escalate) {
     comparisons = pairwise_comparisons(records, options.compare_pairwise);
   }
-  // Scenes are always checked tile by tile: these tests decide whether estimators agree.
-  for (auto& tile : scene_tile_comparisons(records, options.alpha)) {
+  const double family_alpha = options.escalate ? options.alpha / 2.0 : options.alpha;
+  std::size_t tested = 0;
+  for (const RunRecord& record : records) tested += record.verdict && record.verdict->tested;
+  for (const auto& [comparison, verdict] : comparisons) tested += verdict.tested;
+  // Scenes are always checked tile by tile: these tests decide whether estimators agree. Their
+  // power is stated at the threshold of the family they join.
+  for (auto& tile : scene_tile_comparisons(records, family_alpha, tested)) {
     comparisons.push_back(std::move(tile));
   }
   std::vector<Verdict*> family;
   for (RunRecord& record : records) family.push_back(record.verdict ? &*record.verdict : nullptr);
   for (auto& [comparison, verdict] : comparisons) family.push_back(&verdict);
-  decide_family(family, options.escalate ? options.alpha / 2.0 : options.alpha);
+  decide_family(family, family_alpha);
 
   std::deque<RunPlan>& later_plans = chosen_plans;
   if (options.escalate) {

@@ -371,6 +371,29 @@ TEST(ImageStatisticsTiles, BrightTilesAndTheirPower) {
   // A lower power asks for a smaller detectable bias.
   const TileTestResult lower = compare_tiles(a, b, kAlpha, {.power = 0.5});
   EXPECT_LT(find_tile(lower, 1, 0, 0).min_detectable_bias, bright.min_detectable_bias);
+  // Decided in a family of 40 verdicts, the tile is held to alpha / (40 × 6): the detectable bias
+  // is computed at that share, and the reported share says so.
+  const TileTestResult in_family = compare_tiles(a, b, kAlpha, {.family_size = 40});
+  EXPECT_DOUBLE_EQ(in_family.detection_share, kAlpha / 240.0);
+  EXPECT_DOUBLE_EQ(result.detection_share, kAlpha / 6.0);
+  EXPECT_DOUBLE_EQ(
+      find_tile(in_family, 1, 0, 0).min_detectable_bias,
+      detectable_multiplier(kAlpha / 240.0, welch.dof) * welch.stderr_of_difference);
+  EXPECT_GT(in_family.worst_bright_relative_mdb, result.worst_bright_relative_mdb);
+  // The decision of the comparison alone is unchanged; only the power statement moves.
+  EXPECT_EQ(in_family.min_p_adjusted, result.min_p_adjusted);
+}
+
+// The self-check's target: the tile and channel with the largest mean of a.
+TEST(ImageStatisticsTiles, BrightestTile) {
+  std::vector<Image> a(2, Image(16, 8)), b(2, Image(16, 8));
+  a[0].at(3, 5, 2) = 7.0;
+  a[1].at(3, 5, 2) = 9.0;
+  const TileTest& brightest = brightest_tile(compare_tiles(a, b, kAlpha));
+  EXPECT_EQ(brightest.tile_x, 0u);
+  EXPECT_EQ(brightest.tile_y, 0u);
+  EXPECT_EQ(brightest.channel, 2u);
+  EXPECT_THROW(brightest_tile(TileTestResult{}), std::invalid_argument);
 }
 
 TEST(ImageStatisticsTiles, RejectsBadArguments) {
@@ -383,6 +406,7 @@ TEST(ImageStatisticsTiles, RejectsBadArguments) {
   EXPECT_THROW(compare_tiles(a, a, 0.0), std::invalid_argument);
   EXPECT_THROW(compare_tiles(a, a, kAlpha, {.tile = 0}), std::invalid_argument);
   EXPECT_THROW(compare_tiles(a, a, kAlpha, {.power = 1.0}), std::invalid_argument);
+  EXPECT_THROW(compare_tiles(a, a, kAlpha, {.family_size = 0}), std::invalid_argument);
   EXPECT_THROW(test_tiles_against_exact(std::span(a).first(1), a[0], kAlpha),
                std::invalid_argument);
   EXPECT_THROW(test_tiles_against_exact(a, Image(5, 4), kAlpha), std::invalid_argument);

@@ -1,0 +1,115 @@
+#!/usr/bin/python3
+"""The scene tile tests keep their power promise at the threshold that decides, and a scene
+negative control alone is caught (issue 19's reproductions).
+
+Usage (ctest `scenes.family`, label ci):
+    /usr/bin/python3 tests/scene_family_check.py PATH/TO/pcbench
+
+1. Five honest estimators on four scenes at 32x32, 4 spp x 4 replicates, seed 3: a small
+   replicate count, where Student quantiles grow fast, in a family of about 150 verdicts. The
+   detectable tile bias used to be computed at alpha / T of the comparison alone, so the
+   self-checks' "2xMDB injected" comparisons were not flagged once the session's Holm family
+   adjusted them again (exit 1). Now every tile comparison states its per-tile share
+   alpha / (m T), m the session's tested verdicts, and the run exits 0.
+2. `verify -e CONTROL` for each scene control: it renders the control and its declared honest
+   partner, the tile comparison flags the control, exit 0.
+Prints one line per check and "N passed, M failed"; exits 1 if any check failed.
+"""
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+ALPHA = 0.01
+TILE_TESTS_32 = 16 * 3  # 4x4 tiles of 8x8 pixels, 3 channels
+CONTROLS = {"ctl-scene-visible-only": "door-ajar", "ctl-scene-lvc-per-vertex": "cornell"}
+
+passed = 0
+failed = 0
+
+
+def check(ok, what):
+    global passed, failed
+    if ok:
+        passed += 1
+    else:
+        failed += 1
+    print(("ok   " if ok else "FAIL ") + what)
+
+
+def run(pcbench, args, out):
+    proc = subprocess.run([pcbench] + args + ["-q", "--out", out], capture_output=True, text=True)
+    report = None
+    path = os.path.join(out, "report.json")
+    if os.path.exists(path):
+        with open(path) as f:
+            report = json.load(f)
+    return proc, report
+
+
+def tested_verdicts(report):
+    runs = sum(1 for r in report["runs"] if r.get("verdict") and r["verdict"]["test"] != "none")
+    comparisons = sum(1 for c in report["comparisons"] if c["test"] != "none")
+    return runs + comparisons
+
+
+def family_power(pcbench, folder):
+    proc, report = run(pcbench, ["run", "-e", "pt,lt,plain,vc-all,lvc", "-i",
+                                 "furnace,cornell,cornell-glossy,door-ajar", "-p", "resolution=32",
+                                 "-n", "4", "-r", "4", "--seed", "3"], folder)
+    check(proc.returncode == 0, f"the reproduction exits 0 (got {proc.returncode}: "
+          f"{proc.stderr.strip()[-300:]})")
+    if report is None:
+        check(False, "the reproduction wrote a report")
+        return
+    m = tested_verdicts(report)
+    tiles = [c for c in report["comparisons"] if c["test"] == "tile-welch-holm"]
+    share = ALPHA / (m * TILE_TESTS_32)
+    check(len(tiles) > 0 and all(abs(c["tile_alpha_share"] - share) <= 1e-12 * share
+                                 for c in tiles),
+          f"all {len(tiles)} tile comparisons state the per-tile share alpha / (m T) = "
+          f"{ALPHA} / ({m} x {TILE_TESTS_32})")
+    injected = [c for c in tiles if c["a"].endswith("+injected")]
+    check(len(injected) == 4, f"one 2xMDB self-check per scene ({len(injected)})")
+    for c in injected:
+        check(c["result"] == "biased",
+              f"{c['integrand']}: {c['estimator']} flagged (family-adjusted p = "
+              f"{c['p_adjusted']:.3g})")
+    honest = [c for c in tiles if not c["a"].endswith("+injected")]
+    wrong = [c["estimator"] + " on " + c["integrand"] for c in honest if c["result"] != c["expect"]]
+    check(not wrong, f"every honest tile comparison as expected ({len(honest)}; wrong: {wrong})")
+
+
+def controls_alone(pcbench, folder):
+    for control, scene in CONTROLS.items():
+        out = os.path.join(folder, control)
+        proc, report = run(pcbench, ["verify", "-e", control], out)
+        check(proc.returncode == 0, f"verify -e {control} exits 0 (got {proc.returncode})")
+        if report is None:
+            check(False, f"{control} wrote a report")
+            continue
+        estimators = [r["estimator"] for r in report["runs"]]
+        check(estimators == [control, "plain"] and
+              all(r["integrand"] == scene for r in report["runs"]),
+              f"{control} ran with its partner on {scene}: {estimators}")
+        caught = [c for c in report["comparisons"]
+                  if c["test"] == "tile-welch-holm" and control in c["estimator"]]
+        check(len(caught) == 1 and caught[0]["result"] == "biased" and
+              caught[0]["expect"] == "biased",
+              f"{control} flagged by the tile comparison with plain "
+              f"({[c['result'] for c in caught]})")
+
+
+def main():
+    pcbench = sys.argv[1]
+    with tempfile.TemporaryDirectory() as folder:
+        family_power(pcbench, os.path.join(folder, "family"))
+        controls_alone(pcbench, folder)
+    print(f"{passed} passed, {failed} failed")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
