@@ -100,12 +100,13 @@ void print_registry(std::ostream& out, bool as_json) {
   for (const EstimatorEntry& e : scene_estimator_registry()) {
     out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
     if (e.declared) {
-      out << fmt::format("      biased on {} at {} samples per pixel x {} replicates{} (`verify -e {}`)\n",
-                         e.declared->integrand, e.declared->samples, e.declared->replicates,
-                         e.declared->partners.empty()
-                             ? ""
-                             : fmt::format(", against {}", fmt::join(e.declared->partners, ", ")),
-                         e.name);
+      out << fmt::format(
+          "      biased on {} at {} samples per pixel x {} replicates{} (`verify -e {}`)\n",
+          e.declared->integrand, e.declared->samples, e.declared->replicates,
+          e.declared->partners.empty()
+              ? ""
+              : fmt::format(", against {}", fmt::join(e.declared->partners, ", ")),
+          e.name);
     }
     print_params(out, e.scene_params);
   }

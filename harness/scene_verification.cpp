@@ -149,8 +149,8 @@ std::vector<PlannedTileTest> plan_tile_tests(const std::vector<RunRecord>& recor
 }
 
 std::size_t family_members(const std::vector<PlannedTileTest>& planned) {
-  return static_cast<std::size_t>(std::count_if(planned.begin(), planned.end(),
-                                                [](const PlannedTileTest& t) { return t.inject; })) +
+  return static_cast<std::size_t>(std::count_if(
+             planned.begin(), planned.end(), [](const PlannedTileTest& t) { return t.inject; })) +
          planned.size();
 }
 
@@ -159,8 +159,8 @@ std::size_t family_members(const std::vector<PlannedTileTest>& planned) {
 std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
     const std::vector<RunRecord>& records, double alpha, std::size_t other_tested) {
   const std::vector<PlannedTileTest> planned = plan_tile_tests(records);
-  const TileOptions options{
-      .family_size = static_cast<std::uint32_t>(other_tested + family_members(planned))};
+  const TileOptions options{.family_size =
+                                static_cast<std::uint32_t>(other_tested + family_members(planned))};
   std::vector<std::pair<Comparison, Verdict>> out;
   for (const PlannedTileTest& p : planned) {
     const RunRecord& a = *p.a;
@@ -183,9 +183,9 @@ std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
     if (p.inject && !t.tiles.empty()) {
       const TileTest& brightest = brightest_tile(t);
       const double bias = 2.0 * brightest.min_detectable_bias;
-      const TileTestResult shifted = compare_tiles(
-          with_tile_bias(a.result.images, brightest, options.tile, bias), b.result.images, alpha,
-          options);
+      const TileTestResult shifted =
+          compare_tiles(with_tile_bias(a.result.images, brightest, options.tile, bias),
+                        b.result.images, alpha, options);
       Comparison c = tile_comparison(
           a, b.plan->id,
           b.plan->estimator->name + fmt::format(" (tile {},{} channel {} + 2×MDB = {:.3g})",

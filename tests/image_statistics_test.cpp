@@ -376,9 +376,8 @@ TEST(ImageStatisticsTiles, BrightTilesAndTheirPower) {
   const TileTestResult in_family = compare_tiles(a, b, kAlpha, {.family_size = 40});
   EXPECT_DOUBLE_EQ(in_family.detection_share, kAlpha / 240.0);
   EXPECT_DOUBLE_EQ(result.detection_share, kAlpha / 6.0);
-  EXPECT_DOUBLE_EQ(
-      find_tile(in_family, 1, 0, 0).min_detectable_bias,
-      detectable_multiplier(kAlpha / 240.0, welch.dof) * welch.stderr_of_difference);
+  EXPECT_DOUBLE_EQ(find_tile(in_family, 1, 0, 0).min_detectable_bias,
+                   detectable_multiplier(kAlpha / 240.0, welch.dof) * welch.stderr_of_difference);
   EXPECT_GT(in_family.worst_bright_relative_mdb, result.worst_bright_relative_mdb);
   // The decision of the comparison alone is unchanged; only the power statement moves.
   EXPECT_EQ(in_family.min_p_adjusted, result.min_p_adjusted);
