@@ -9,6 +9,7 @@
 
 #include "harness/cli.h"
 #include "harness/plan.h"
+#include "harness/statistics.h"
 #include "test_support.h"
 
 namespace pcbench {
@@ -55,6 +56,11 @@ TEST_F(CliVerify, LowCountRunsEscalate) {
   EXPECT_EQ(run["samples"], 80000);
   EXPECT_EQ(run["verdict"]["result"], "consistent");
   EXPECT_DOUBLE_EQ(run["verdict"]["alpha"].get<double>(), 0.01 / 2 / 2);
+  // Its power statement uses the share of alpha the last stage was decided at.
+  EXPECT_NEAR(run["verdict"]["min_detectable_bias"].get<double>(),
+              detectable_multiplier(0.01 / 2 / 2, run["verdict"]["dof"].get<double>()) *
+                  run["aggregates"]["stderr"].get<double>(),
+              1e-12 * run["verdict"]["min_detectable_bias"].get<double>());
   // `run` does not escalate.
   EXPECT_EQ(cli({"run", "-e", "plain", "-i", "narrow-peak", "-n", "5000", "-r", "16", "-q", "--out",
                  at("once")})

@@ -1,0 +1,107 @@
+#!/usr/bin/python3
+"""Samples per pixel for each scene run so that every tile comparison meets the power requirement.
+
+Usage: /usr/bin/python3 scripts/scene-power-budget.py PILOT_REPORT SUITE [--margin 1.5]
+
+PILOT_REPORT is the report of `pcbench verify` on SUITE with every run at one pilot budget (the
+same runs, replicates and seed, so the same Holm family and the same per-tile share of alpha).
+Each tile comparison gives samples_factor_for_required_mdb = (tile_relative_mdb / 0.05)^2. The
+detectable bias of a comparison goes with its standard error, whose square is the sum of the two
+runs' tile variances, each proportional to 1 / (samples per pixel): F_ab = v_a + v_b at the pilot
+budget, F_a = v_a against an exact image. Per scene, the non-negative v_e of each estimator are
+fitted to the worst case (the largest v that every comparison of e allows is not enough: v is
+set so that every comparison's F is covered, v_a + v_b >= F_ab, at the smallest total). Each run
+then gets pilot_samples x 2 v_e x margin samples per pixel (each run brings its half of the
+variance budget down to half of the requirement), rounded up to a multiple of 10 and at least the
+pilot's. Negative controls keep the pilot budget (they must be flagged, not measured).
+
+Prints the suite with the new samples (JSON) on stdout and a table on stderr.
+"""
+
+import argparse
+import json
+import math
+import sys
+
+
+def covering_variances(estimators, factors):
+    """Smallest-total non-negative v with v_a + v_b >= F_ab (and v_a >= F_a for exact tests).
+
+    A small linear programme; with at most 8 estimators per scene a search over which
+    constraints are tight is cheap, but the greedy below is exact enough here: start from the
+    exact-image bounds and the half of each pair, then raise the smaller side of any pair still
+    short. It is a covering, which is what the requirement needs, not an optimum.
+    """
+    v = {e: 0.0 for e in estimators}
+    for (a, b), f in factors.items():
+        if b is None:
+            v[a] = max(v[a], f)
+    for (a, b), f in factors.items():
+        if b is not None:
+            v[a] = max(v[a], f / 2)
+            v[b] = max(v[b], f / 2)
+    for _ in range(len(estimators) * 4):
+        short = False
+        for (a, b), f in factors.items():
+            if b is not None and v[a] + v[b] < f:
+                short = True
+                low = a if v[a] <= v[b] else b
+                v[low] = f - (v[b] if low == a else v[a])
+        if not short:
+            break
+    return v
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("pilot")
+    parser.add_argument("suite")
+    parser.add_argument("--margin", type=float, default=1.5)
+    args = parser.parse_args()
+    report = json.load(open(args.pilot))
+    suite = json.load(open(args.suite))
+    runs = {r["id"]: r for r in report["runs"]}
+    pilot_samples = {r["samples"] for r in report["runs"]}
+    if len(pilot_samples) != 1:
+        sys.exit("scene-power-budget: the pilot's runs must share one budget")
+    pilot = pilot_samples.pop()
+
+    scenes = {}
+    for c in report["comparisons"]:
+        if c["test"] != "tile-welch-holm" or c["a"].endswith("+injected"):
+            continue
+        if c["expect"] != "consistent":
+            continue
+        a = runs[c["a"]]["estimator"]
+        b = None if c["b"] == "exact" else runs[c["b"]]["estimator"]
+        factor = c.get("samples_factor_for_required_mdb")
+        if factor is None:
+            sys.exit(f"scene-power-budget: {c['estimator']} on {c['integrand']} has no factor")
+        scenes.setdefault(c["integrand"], {})[(a, b)] = factor
+
+    budget = {}
+    for scene, factors in scenes.items():
+        estimators = sorted({e for pair in factors for e in pair if e is not None})
+        v = covering_variances(estimators, factors)
+        for e in estimators:
+            need = pilot * 2 * v[e] * args.margin
+            budget[(e, scene)] = max(pilot, int(math.ceil(need / 10.0)) * 10)
+        worst = max(factors.items(), key=lambda kv: kv[1])
+        print(f"{scene}: worst pilot factor {worst[1]:.3g} ({worst[0][0]} vs "
+              f"{worst[0][1] or 'exact'})", file=sys.stderr)
+
+    for run in suite["runs"]:
+        key = (run["estimator"], run["integrand"])
+        if key in budget:
+            run["samples"] = budget[key]
+        print(f"  {run['estimator']:<26} {run['integrand']:<10} {run['samples']:>6} spp",
+              file=sys.stderr)
+    # One run a line, as the suite files are written.
+    head = {k: v for k, v in suite.items() if k != "runs"}
+    lines = [f"  {json.dumps(k)}: {json.dumps(v, ensure_ascii=False)}," for k, v in head.items()]
+    runs_text = ",\n".join("    " + json.dumps(r) for r in suite["runs"])
+    print("{\n" + "\n".join(lines) + '\n  "runs": [\n' + runs_text + "\n  ]\n}")
+
+
+if __name__ == "__main__":
+    main()
