@@ -13,9 +13,11 @@ fitted to the worst case (the largest v that every comparison of e allows is not
 set so that every comparison's F is covered, v_a + v_b >= F_ab, at the smallest total). Each run
 then gets pilot_samples x 2 v_e x margin samples per pixel (each run brings its half of the
 variance budget down to half of the requirement), rounded up to a multiple of 10 and at least the
-pilot's. Negative controls keep the pilot budget (they must be flagged, not measured).
+pilot's. Negative controls keep the suite's budget (they must be flagged, not measured).
 
-Prints the suite with the new samples (JSON) on stdout and a table on stderr.
+Prints the suite with the new samples (JSON) on stdout and a table on stderr. suites/scenes-power.json
+was made so: the suite with every run at 8 spp x 32 replicates (the controls at their own budget
+is fine too) run by `pcbench verify PILOT.json --out PILOT`, then this script on PILOT/report.json.
 """
 
 import argparse
@@ -23,30 +25,37 @@ import json
 import math
 import sys
 
+import numpy as np
+
 
 def covering_variances(estimators, factors):
-    """Smallest-total non-negative v with v_a + v_b >= F_ab (and v_a >= F_a for exact tests).
+    """Non-negative v_e with v_a + v_b >= F_ab (v_a >= F_a against an exact image).
 
-    A small linear programme; with at most 8 estimators per scene a search over which
-    constraints are tight is cheap, but the greedy below is exact enough here: start from the
-    exact-image bounds and the half of each pair, then raise the smaller side of any pair still
-    short. It is a covering, which is what the requirement needs, not an optimum.
+    Least squares on the additive model first (each run's noise counted once, whatever its
+    partner), clipped at a small floor; then every comparison the fit leaves short scales both of
+    its runs up until it is covered. The model is approximate (each F is a maximum over tiles,
+    and the t quantiles move with the Welch dof), which the margin absorbs.
     """
-    v = {e: 0.0 for e in estimators}
+    index = {e: i for i, e in enumerate(estimators)}
+    rows, rhs = [], []
     for (a, b), f in factors.items():
-        if b is None:
-            v[a] = max(v[a], f)
-    for (a, b), f in factors.items():
+        row = np.zeros(len(estimators))
+        row[index[a]] = 1.0
         if b is not None:
-            v[a] = max(v[a], f / 2)
-            v[b] = max(v[b], f / 2)
-    for _ in range(len(estimators) * 4):
+            row[index[b]] = 1.0
+        rows.append(row)
+        rhs.append(f)
+    fit, *_ = np.linalg.lstsq(np.array(rows), np.array(rhs), rcond=None)
+    v = {e: max(float(fit[index[e]]), 1e-3 * max(rhs)) for e in estimators}
+    for _ in range(100):
         short = False
         for (a, b), f in factors.items():
-            if b is not None and v[a] + v[b] < f:
+            have = v[a] + (v[b] if b is not None else 0.0)
+            if have < f:
                 short = True
-                low = a if v[a] <= v[b] else b
-                v[low] = f - (v[b] if low == a else v[a])
+                v[a] *= f / have
+                if b is not None:
+                    v[b] *= f / have
         if not short:
             break
     return v
