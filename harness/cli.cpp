@@ -15,6 +15,7 @@
 #include "harness/compare_command.h"
 #include "harness/errors.h"
 #include "harness/external_verify.h"
+#include "harness/image_set_verify.h"
 #include "harness/list_command.h"
 #include "harness/plan.h"
 #include "harness/plot_command.h"
@@ -41,6 +42,7 @@ struct RunArguments {
   bool quiet = false;
   bool interleave = false;
   bool strategy_images = false;
+  bool replicate_images = false;
   bool resume = false;
   std::string reference_cache = kDefaultReferenceCache;
   // verify only
@@ -48,6 +50,8 @@ struct RunArguments {
   double alpha = kDefaultAlpha;
   bool exact = false;
   ExternalRequest external;
+  ImageSetRequest images;  // --images SET (its --against is external.against)
+  std::string crop;        // --crop X,Y,W,H
 };
 
 // Numbers and choices never contain commas, so for them a comma separates grid values.
@@ -181,6 +185,7 @@ SessionOptions session_options(const RunArguments& args, const std::vector<std::
   session.interleave = args.interleave;
   session.reference_cache = args.reference_cache;
   session.strategy_images = args.strategy_images;
+  session.replicate_images = args.replicate_images;
   if (!args.out_dir.empty()) session.out_dir = args.out_dir;
   return session;
 }
@@ -192,6 +197,31 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     throw InputError(
         "command line: --resume continues an interrupted run or verify of a suite or selection; "
         "it takes no --exact or --estimates (they are not saved as they go)");
+  }
+  if (!args.images.images.empty()) {
+    const bool selection = !args.estimators.empty() || !args.integrands.empty() ||
+                           !args.params.empty() || !args.suite_path.empty() || args.exact ||
+                           !args.external.estimates.empty() || args.external.reference ||
+                           args.external.run_id;
+    if (selection || args.resume) {
+      throw InputError(
+          "command line: --images verifies a set of image files; it takes no suite, --estimator, "
+          "--integrand, --param, --exact, --estimates, --reference, --run-id or --resume");
+    }
+    ImageSetRequest request = args.images;
+    request.against = args.external.against;
+    if (!args.crop.empty()) request.read.crop = parse_crop(args.crop);
+    prepare_out_dir(args.out_dir, run_app.count("--out") > 0);
+    return run_image_set_verification(request, session_options(args, argv, interrupted), out, err);
+  }
+  const bool image_options =
+      args.images.reference_image || args.images.reference_stderr || args.images.constant ||
+      !args.crop.empty() || args.images.read.channels != ImageReadOptions{}.channels ||
+      args.images.tile != ImageSetRequest{}.tile || args.images.expect != ImageSetRequest{}.expect;
+  if (image_options) {
+    throw InputError(
+        "command line: --reference-image, --reference-stderr, --constant, --channels, --crop, "
+        "--tile and --expect go with --images SET");
   }
   if (!args.external.estimates.empty()) {
     const bool selection = !args.estimators.empty() || !args.integrands.empty() ||
@@ -325,6 +355,9 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_flag("--strategy-images", args.strategy_images,
                 "scene runs also write images/<id>_strategies.exr: the mean image of each (s, t) "
                 "connection strategy, one layer each, and their shares of the image");
+  app->add_flag("--replicate-images", args.replicate_images,
+                "scene runs also write each replicate image, images/<id>_rep<k>.exr (k from 0): "
+                "what `verify --images` and other tools test");
   app->add_flag(
       "--resume", args.resume,
       "with --out DIR of an interrupted session: restore its finished runs, run the rest");
@@ -445,7 +478,27 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   verify->add_option("--reference", verify_args.external.reference,
                      "with --estimates: the value to test against, V or V±U (also V+-U)");
   verify->add_option("--against", verify_args.external.against,
-                     "with --estimates: a second estimates file, tested two-sample (Welch)");
+                     "with --estimates: a second estimates file, tested two-sample (Welch); with "
+                     "--images: a second independent image set, tested per tile");
+  verify->add_option("--images", verify_args.images.images,
+                     "replicate images from any renderer (EXR, HDR or PFM): a folder, a glob or "
+                     "a comma-separated list, one seed per image");
+  verify->add_option("--reference-image", verify_args.images.reference_image,
+                     "with --images: a converged reference image");
+  verify->add_option("--reference-stderr", verify_args.images.reference_stderr,
+                     "with --reference-image: its per-pixel standard error image");
+  verify->add_option("--constant", verify_args.images.constant,
+                     "with --images: an exact constant image, V or R,G,B (a furnace)");
+  verify
+      ->add_option("--channels", verify_args.images.read.channels,
+                   "with --images: the three channels to test (default R,G,B)")
+      ->delimiter(',')
+      ->expected(3);
+  verify->add_option("--crop", verify_args.crop, "with --images: the window X,Y,W,H to test");
+  verify->add_option("--tile", verify_args.images.tile,
+                     "with --images: tile edge in pixels (default 8)");
+  verify->add_option("--expect", verify_args.images.expect,
+                     "with --images: consistent (default) or biased (a set with a known bias)");
 
   CalibrationOptions calibration;
   RunArguments calibrate_args;

@@ -253,27 +253,75 @@ TileTestResult compare_tiles(std::span<const Image> a, std::span<const Image> b,
   return decide_tiles(raw, tiling, alpha, options);
 }
 
+namespace {
+
+// One-sample tests of a's replicate tile means against a reference's tile means, whose variance
+// is `reference_variance` per tile and channel (empty: exact).
+TileTestResult tiles_against(std::span<const Image> a, const Image& reference,
+                             const std::vector<double>& reference_variance, double alpha,
+                             const TileOptions& options) {
+  const Tiling tiling(reference.width, reference.height, options.tile);
+  const std::vector<double> means_a = tile_means(a, tiling);
+  const std::vector<double> means_reference = tile_means(std::span(&reference, 1), tiling);
+  const double count = static_cast<double>(a.size());
+  std::vector<TwoSampleTest> raw(tiling.count() * kImageChannels);
+  for (std::size_t k = 0; k < raw.size(); ++k) {
+    Tally tally(0);
+    for (std::size_t r = 0; r < a.size(); ++r) tally.add(means_a[k * a.size() + r], r);
+    const double variance = reference_variance.empty() ? 0.0 : reference_variance[k];
+    raw[k] = welch_test(tally.mean(), tally.variance() / count, count - 1.0, means_reference[k],
+                        variance, kInf);
+    // Welch's test with an exactly known b (variance 0, infinite dof) is Student's one-sample
+    // test; its dof is R - 1 also where a does not vary (Welch would add b's infinity).
+    if (variance == 0.0) raw[k].dof = count - 1.0;
+  }
+  return decide_tiles(raw, tiling, alpha, options);
+}
+
+}  // namespace
+
 TileTestResult test_tiles_against_exact(std::span<const Image> a, const Image& exact, double alpha,
                                         const TileOptions& options) {
   check_options(alpha, options);
   check_replicates(a);
   check_image(exact, a.front());
   if (exact.pixel_count() == 0) throw std::invalid_argument("empty image");
-  const Tiling tiling(exact.width, exact.height, options.tile);
-  const std::vector<double> means_a = tile_means(a, tiling);
-  const std::vector<double> means_exact = tile_means(std::span(&exact, 1), tiling);
-  const double count = static_cast<double>(a.size());
-  std::vector<TwoSampleTest> raw(tiling.count() * kImageChannels);
-  for (std::size_t k = 0; k < raw.size(); ++k) {
-    Tally tally(0);
-    for (std::size_t r = 0; r < a.size(); ++r) tally.add(means_a[k * a.size() + r], r);
-    // Welch's test with an exactly known b (variance 0, infinite dof) is Student's one-sample
-    // test; its dof is R - 1 also where a does not vary (Welch would add b's infinity).
-    raw[k] =
-        welch_test(tally.mean(), tally.variance() / count, count - 1.0, means_exact[k], 0.0, kInf);
-    raw[k].dof = count - 1.0;
+  return tiles_against(a, exact, {}, alpha, options);
+}
+
+TileTestResult test_tiles_against_reference(std::span<const Image> a, const Image& reference,
+                                            const Image& reference_stderr, double alpha,
+                                            const TileOptions& options) {
+  check_options(alpha, options);
+  check_replicates(a);
+  check_image(reference, a.front());
+  check_image(reference_stderr, a.front());
+  if (reference.pixel_count() == 0) throw std::invalid_argument("empty image");
+  const Tiling tiling(reference.width, reference.height, options.tile);
+  // A tile mean's variance: the sum of its pixels' variances over the pixel count squared.
+  Image squared = reference_stderr;
+  for (double& v : squared.values) v *= v;
+  std::vector<double> variance = tile_means(std::span(&squared, 1), tiling);
+  for (std::size_t k = 0; k < variance.size(); ++k) {
+    const std::size_t tile = k / kImageChannels;
+    variance[k] /= tiling.pixels(static_cast<std::uint32_t>(tile % tiling.tiles_x),
+                                 static_cast<std::uint32_t>(tile / tiling.tiles_x));
   }
-  return decide_tiles(raw, tiling, alpha, options);
+  return tiles_against(a, reference, variance, alpha, options);
+}
+
+std::vector<Image> with_tile_bias(std::vector<Image> images, const TileTest& tile,
+                                  std::uint32_t size, double bias) {
+  for (Image& image : images) {
+    for (std::uint32_t y = tile.tile_y * size; y < std::min(image.height, (tile.tile_y + 1) * size);
+         ++y) {
+      for (std::uint32_t x = tile.tile_x * size;
+           x < std::min(image.width, (tile.tile_x + 1) * size); ++x) {
+        image.at(x, y, tile.channel) += bias;
+      }
+    }
+  }
+  return images;
 }
 
 const TileTest& brightest_tile(const TileTestResult& result) {

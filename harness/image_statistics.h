@@ -107,6 +107,20 @@ TileTestResult compare_tiles(std::span<const Image> a, std::span<const Image> b,
 TileTestResult test_tiles_against_exact(std::span<const Image> a, const Image& exact, double alpha,
                                         const TileOptions& options = {});
 
+// The same against a converged reference image with its own per-pixel standard error (another
+// renderer's reference): Welch's test of the replicate tile means against the reference tile
+// mean, whose variance is the sum of its pixels' se² over the tile's pixel count squared
+// (pixels taken as independent) with infinite dof. Where every se is 0 this is
+// test_tiles_against_exact. Throws as test_tiles_against_exact, and for a stderr image of another
+// size.
+TileTestResult test_tiles_against_reference(std::span<const Image> a, const Image& reference,
+                                            const Image& reference_stderr, double alpha,
+                                            const TileOptions& options = {});
+
+// Adds `bias` to the tile's channel in every pixel of every image (tiles of `size` pixels).
+std::vector<Image> with_tile_bias(std::vector<Image> images, const TileTest& tile,
+                                  std::uint32_t size, double bias);
+
 // The tile and channel with the largest mean of a: where the self-check (and the calibration of
 // the tile test) injects a bias. `result` must hold tiles.
 const TileTest& brightest_tile(const TileTestResult& result);

@@ -41,6 +41,8 @@ Image constant_image(const scene::Scene& s, const scene::Rgb& value) {
   return image;
 }
 
+}  // namespace
+
 Verdict tile_verdict(const TileTestResult& t, std::string expect) {
   Verdict v;
   v.test = "tile-welch-holm";
@@ -60,36 +62,29 @@ Verdict tile_verdict(const TileTestResult& t, std::string expect) {
   return v;
 }
 
-Comparison tile_comparison(const RunRecord& a, std::string b_id, std::string b_name,
-                           const TileTestResult& t, std::string expect) {
+Comparison tile_comparison(const TileTestResult& t, std::string a, std::string b, std::string label,
+                           std::string integrand, std::size_t replicates_a, std::string expect) {
   Comparison c;
-  c.a = a.plan->id;
-  c.b = std::move(b_id);
+  c.a = std::move(a);
+  c.b = std::move(b);
   c.test = "tile-welch-holm";
-  c.estimator = a.plan->estimator->name + " vs " + b_name;
-  c.integrand = a.plan->integrand->name;
+  c.estimator = std::move(label);
+  c.integrand = std::move(integrand);
   c.p_value = t.min_p_adjusted;
   c.expect = std::move(expect);
-  c.replicates_a = a.result.images.size();
+  c.replicates_a = replicates_a;
   c.tile_relative_mdb = t.worst_bright_relative_mdb;
   c.tile_alpha_share = t.detection_share;
   c.bright_tiles = t.bright_tiles;
   return c;
 }
 
-// Adds `bias` to channel `channel` of every pixel of tile (tx, ty) in every replicate.
-std::vector<Image> with_tile_bias(std::vector<Image> images, const TileTest& tile,
-                                  std::uint32_t size, double bias) {
-  for (Image& image : images) {
-    for (std::uint32_t y = tile.tile_y * size; y < std::min(image.height, (tile.tile_y + 1) * size);
-         ++y) {
-      for (std::uint32_t x = tile.tile_x * size;
-           x < std::min(image.width, (tile.tile_x + 1) * size); ++x) {
-        image.at(x, y, tile.channel) += bias;
-      }
-    }
-  }
-  return images;
+namespace {
+
+Comparison tile_comparison(const RunRecord& a, std::string b_id, std::string b_name,
+                           const TileTestResult& t, std::string expect) {
+  return tile_comparison(t, a.plan->id, std::move(b_id), a.plan->estimator->name + " vs " + b_name,
+                         a.plan->integrand->name, a.result.images.size(), std::move(expect));
 }
 
 // Closest-hit and shadow rays per CPU second over the run (all threads' CPU time).
@@ -216,7 +211,7 @@ std::string image_file(const std::string& run_id, const char* kind) {
 }  // namespace
 
 void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder,
-                        const ReferenceCache* cache, std::ostream& warn) {
+                        const ReferenceCache* cache, bool replicate_images, std::ostream& warn) {
   // The best-converged honest images per scene (smallest mean standard error first): a run's
   // reference where there is no exact one is the best of the others.
   std::map<const IntegrandEntry*, std::vector<std::pair<double, const RunRecord*>>> converged;
@@ -263,6 +258,15 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder,
     };
     write_image("mean", s.mean);
     write_image("stderr", s.standard_error);
+    if (replicate_images) {
+      nlohmann::ordered_json names = nlohmann::ordered_json::array();
+      for (std::size_t k = 0; k < r.result.images.size(); ++k) {
+        const std::string name = image_file(stem, fmt::format("rep{}", k).c_str());
+        write_exr_rgb(folder / name, r.result.images[k]);
+        names.push_back(name);
+      }
+      files["replicates"] = std::move(names);
+    }
     nlohmann::ordered_json image = {{"width", s.mean.width}, {"height", s.mean.height}};
     image["rays_per_cpu_second"] = rays_per_cpu_second(r);
 

@@ -10,12 +10,23 @@
 #include <utility>
 #include <vector>
 
+#include "harness/image_statistics.h"
 #include "harness/reference_cache.h"
 #include "harness/report_compare.h"
 #include "harness/statistics.h"
 #include "results/report.h"
 
 namespace pcbench {
+
+// A tile test's verdict for the session's family: its p-value is the smallest Holm-adjusted tile
+// p (decide_family adjusts it again), its reason gives the tests, the detectable tile bias and
+// the samples factor for the power requirement.
+Verdict tile_verdict(const TileTestResult& t, std::string expect);
+
+// The comparison entry of a tile test of a (run or image set id) against b ("exact", a run id,
+// a set); `label` reads "E_a vs E_b".
+Comparison tile_comparison(const TileTestResult& t, std::string a, std::string b, std::string label,
+                           std::string integrand, std::size_t replicates_a, std::string expect);
 
 // The tile tests of a session's scene runs, as comparisons for the session's family, which holds
 // them and `other_tested` tested verdicts more and is decided at `alpha`: every detectable bias
@@ -28,8 +39,9 @@ std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
 // gathered them: harness/strategy_image_file.h) and fills its `image` section. Its errors are
 // measured against the exact image, else the cache's converged image of the scene (when `cache`
 // is given and holds one; unreadable entries are reported on `warn`), else the best-converged
-// other honest run of the session.
+// other honest run of the session. With `replicate_images`, each replicate image is written too
+// (images/<id>_rep<k>.exr), named in files.replicates.
 void write_scene_images(std::vector<RunRecord>& records, const std::filesystem::path& folder,
-                        const ReferenceCache* cache, std::ostream& warn);
+                        const ReferenceCache* cache, bool replicate_images, std::ostream& warn);
 
 }  // namespace pcbench

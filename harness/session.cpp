@@ -426,7 +426,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   std::optional<fs::path> report_path;
   try {
     const ReferenceCache cache(options.reference_cache);
-    write_scene_images(records, folder, &cache, err);
+    write_scene_images(records, folder, &cache, options.replicate_images, err);
     Context context = gather_context(options.argv, options.seed, options.threads);
     if (options.resume) {
       context.restored_runs = store->restored();

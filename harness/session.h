@@ -51,6 +51,9 @@ struct SessionOptions {
   bool interleave = false;
   // Scene runs also write the mean image of each (s, t) strategy (harness/strategy_image_file.h).
   bool strategy_images = false;
+  // Scene runs also write each replicate image (images/<id>_rep<k>.exr), for other tools and
+  // for `verify --images`.
+  bool replicate_images = false;
   std::vector<std::string> argv;
   const std::atomic<bool>* interrupted = nullptr;
   // `--resume`: the interrupted session's journal, already checked against the plans. Its done

@@ -56,6 +56,7 @@ struct ReportSections {
   std::optional<nlohmann::json> calibration = {};
   nlohmann::json external = nlohmann::json::array();  // verify --estimates, in the schema's form
   nlohmann::json efficiency_ratios = nlohmann::json::array();  // harness/interleaved_runs.h
+  std::optional<nlohmann::json> image_sets = {};  // verify --images, in the schema's form
 };
 
 std::string report_json(const Context& context, const std::string& suite_name,
