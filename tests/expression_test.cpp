@@ -1,10 +1,13 @@
 #include "integrands/expression.h"
 
 #include <gtest/gtest.h>
+#include <muParser.h>
 
 #include <barrier>
 #include <cmath>
+#include <map>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -92,6 +95,33 @@ TEST(ExpressionEvaluate, ConstantExpressionIgnoresThePoint) {
   ExpressionModel m = model({{"f", "2.5"}});
   const double x = 0.1, y = 0.2;
   EXPECT_EQ(m.f(&x, &y), 2.5);
+}
+
+TEST(ExpressionConstants, PiAndEAreTheNearestDoubles) {
+  const double x = 0.3, y = 0.6;
+  EXPECT_EQ(model({{"f", "_pi"}}).f(&x, &y), std::numbers::pi);
+  EXPECT_EQ(model({{"f", "_e"}}).f(&x, &y), std::numbers::e);
+  EXPECT_EQ(model({{"f", "_pi + 0*x0*y0"}}).f(&x, &y), std::numbers::pi);
+}
+
+TEST(ExpressionConstants, EveryConstantOfMuparserIsDefinedAgain) {
+  // The constants pcbench defines at full precision; one muparser defines beyond these (a newer
+  // version) would keep muparser's value, which may be short (its _pi is 3.141592653589 in a GCC
+  // build), until it is added to ExpressionModel and here.
+  const std::map<std::string, double> redefined = {{"_pi", std::numbers::pi},
+                                                   {"_e", std::numbers::e}};
+  const mu::Parser plain;
+  ASSERT_FALSE(plain.GetConst().empty()) << "muparser defines no constants: nothing is checked";
+  const double x = 0.3, y = 0.6;
+  for (const auto& [name, muparser_value] : plain.GetConst()) {
+    const auto found = redefined.find(name);
+    if (found == redefined.end()) {
+      ADD_FAILURE() << "muparser defines " << name << " = " << muparser_value
+                    << ", which pcbench does not define again";
+      continue;
+    }
+    EXPECT_EQ(model({{"f", name}}).f(&x, &y), found->second) << name;
+  }
 }
 
 TEST(ExpressionErrors, SyntaxErrorShowsPositionCaretAndVariables) {
