@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <numbers>
+#include <optional>
 
 #include "harness/errors.h"
+#include "integrands/expression_syntax.h"
 #include "integrands/point_integrand.h"
 
 namespace pcbench {
@@ -31,23 +33,29 @@ ExpressionModel::ExpressionModel(const ResolvedParams& params)
       camera_dims_(static_cast<int>(params.integer("camera_dims"))),
       exact_(params.has("exact") ? params.real("exact") : 0.0),
       has_exact_(params.has("exact")) {
-  // muparser parses lazily: evaluate once now so that a syntax error or an unknown variable is
-  // reported as bad input before any run starts, not as a failure inside one.
+  // muparser parses lazily: evaluate once now so that a syntax error, an unknown variable or what
+  // f must not hold (expression_syntax.h) is bad input before any run starts, not a failure
+  // inside one (or a silently different integrand).
+  std::optional<ExpressionProblem> problem;
   try {
     bind();
     std::fill_n(variables_.get(), light_dims_ + camera_dims_, 0.5);
     parser_->Eval();
+    problem = unsupported_construct(*parser_);
   } catch (const mu::Parser::exception_type& e) {
-    // muparser may report the position one past the end of the text; keep the caret on it.
-    const int pos = std::clamp(e.GetPos(), 0, static_cast<int>(expression_.size()));
-    std::vector<std::string> names;
-    for (int i = 0; i < light_dims_; ++i) names.push_back(fmt::format("x{}", i));
-    for (int i = 0; i < camera_dims_; ++i) names.push_back(fmt::format("y{}", i));
-    throw InputError(fmt::format(
-        "integrand 'expr', parameter 'f', position {}: {}\n  {}\n  {:>{}}\n"
-        "variables: {} (light_dims={}, camera_dims={})",
-        pos, e.GetMsg(), expression_, "^", pos + 1, join_names(names), light_dims_, camera_dims_));
+    problem = ExpressionProblem{.position = e.GetPos(), .message = e.GetMsg()};
   }
+  if (!problem) return;
+  // muparser may report the position one past the end of the text; keep the caret on it.
+  const int pos = std::clamp(problem->position, 0, static_cast<int>(expression_.size()));
+  std::vector<std::string> names;
+  for (int i = 0; i < light_dims_; ++i) names.push_back(fmt::format("x{}", i));
+  for (int i = 0; i < camera_dims_; ++i) names.push_back(fmt::format("y{}", i));
+  throw InputError(
+      fmt::format("integrand 'expr', parameter 'f', position {}: {}\n  {}\n  {:>{}}\n"
+                  "variables: {} (light_dims={}, camera_dims={})",
+                  pos, problem->message, expression_, "^", pos + 1, join_names(names), light_dims_,
+                  camera_dims_));
 }
 
 ExpressionModel::ExpressionModel(const ExpressionModel& other)

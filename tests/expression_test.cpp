@@ -151,6 +151,49 @@ TEST(ExpressionErrors, VariableBeyondTheDeclaredDimensionsIsUnknown) {
   expect_caret(camera, "x0 + y1", 5);
 }
 
+TEST(ExpressionErrors, SeveralValuesPointAtTheCommaBetweenThem) {
+  const std::string message = model_error({{"f", "x0, y0"}});
+  ASSERT_FALSE(message.empty()) << "x0, y0 was accepted (muparser returns two values)";
+  EXPECT_TRUE(contains(message,
+                       "integrand 'expr', parameter 'f', position 2: ',' outside a "
+                       "function's arguments separates several expressions"))
+      << message;
+  EXPECT_TRUE(contains(message, "variables: x0, y0")) << message;
+  expect_caret(message, "x0, y0", 2);
+  // The comma outside the function's parentheses, not the one between its arguments.
+  expect_caret(model_error({{"f", "min(x0, y0), x0"}}), "min(x0, y0), x0", 11);
+  expect_caret(model_error({{"f", " x0 ,y0"}}), " x0 ,y0", 4);
+  expect_caret(model_error({{"f", "1e-3*x0,2.5"}}), "1e-3*x0,2.5", 7);
+}
+
+TEST(ExpressionErrors, AssignmentPointsAtTheEquals) {
+  const std::string message = model_error({{"f", "x0=2"}});
+  ASSERT_FALSE(message.empty()) << "the assignment x0=2 was accepted";
+  EXPECT_TRUE(contains(message,
+                       "integrand 'expr', parameter 'f', position 2: '=' assigns to a "
+                       "variable"))
+      << message;
+  expect_caret(message, "x0=2", 2);
+  expect_caret(model_error({{"f", "(x0=2)+1"}}), "(x0=2)+1", 3);
+  expect_caret(model_error({{"f", "y0 == 1 + (x0 = 0.5)"}}), "y0 == 1 + (x0 = 0.5)", 14);
+  EXPECT_THROW(model({{"f", "x0=2"}}), InputError);
+  EXPECT_THROW(model({{"f", "x0, y0"}}), InputError);
+}
+
+TEST(ExpressionEvaluate, CommasBetweenArgumentsAndComparisonsStayValid) {
+  const double x = 0.25, y = 0.75;
+  EXPECT_EQ(model({{"f", "min(x0, y0)"}}).f(&x, &y), 0.25);
+  EXPECT_EQ(model({{"f", "max(x0, y0, 0.5)"}}).f(&x, &y), 0.75);
+  EXPECT_EQ(model({{"f", "sum(x0, y0) + avg(x0,y0)"}}).f(&x, &y), 1.5);
+  EXPECT_EQ(model({{"f", "min(max(x0, y0), 0.5)"}}).f(&x, &y), 0.5);
+  EXPECT_EQ(model({{"f", "atan2(y0, x0)"}}).f(&x, &y), std::atan2(0.75, 0.25));
+  EXPECT_EQ(model({{"f", "x0 == y0"}}).f(&x, &y), 0.0);
+  EXPECT_EQ(model({{"f", "x0 != y0"}}).f(&x, &y), 1.0);
+  EXPECT_EQ(model({{"f", "x0 <= y0"}}).f(&x, &y), 1.0);
+  EXPECT_EQ(model({{"f", "x0 >= y0"}}).f(&x, &y), 0.0);
+  EXPECT_EQ(model({{"f", "x0 < y0 ? min(x0, 1) : y0"}}).f(&x, &y), 0.25);
+}
+
 TEST(ExpressionErrors, ErrorIsAnInputErrorSoItIsBadInput) {
   EXPECT_THROW(model({{"f", "x0 +* y0"}}), InputError);
   EXPECT_THROW(model({{"f", "x0 y0"}}), InputError);
