@@ -17,6 +17,7 @@
 
 #include "harness/errors.h"
 #include "harness/plan.h"
+#include "harness/rounding_bound.h"
 #include "harness/runner.h"
 #include "harness/statistics.h"
 #include "results/report.h"
@@ -32,7 +33,8 @@ using Json = nlohmann::ordered_json;
 struct SeedOutcome {
   double p_value = kNaN;
   double test_stderr = kNaN;
-  std::vector<ReplicateResult> replicates;  // kept only where the power curve needs them
+  std::vector<ReplicateResult> replicates;   // kept only where the power curve needs them
+  double sample_roundings = kTermRoundings;  // of the run (rounding_bound.h), for the power curve
 };
 
 // Runs `plan` with seeds first_seed .. first_seed + count - 1, in parallel over seeds (each into
@@ -51,8 +53,10 @@ std::vector<SeedOutcome> run_seeds(const RunPlan& plan, const Reference& referen
                                            plan.estimator->name, plan.integrand->name, seed,
                                            run.error));
     }
-    const Verdict verdict = test_against_reference(run.replicates, reference, "consistent");
     SeedOutcome& out = outcomes[i];
+    out.sample_roundings = sample_roundings(run.counters);
+    const Verdict verdict =
+        test_against_reference(run.replicates, reference, "consistent", out.sample_roundings);
     out.p_value = verdict.p_value;
     out.test_stderr = verdict.test_stderr;
     if (i < keep) {
@@ -255,7 +259,8 @@ CalibrationResult calibrate(const CalibrationOptions& options) {
       for (const SeedOutcome& outcome : power_outcomes) {
         std::vector<ReplicateResult> shifted = outcome.replicates;
         for (ReplicateResult& rep : shifted) rep.estimate += point.bias;
-        const Verdict v = test_against_reference(shifted, reference, "biased");
+        const Verdict v =
+            test_against_reference(shifted, reference, "biased", outcome.sample_roundings);
         if (v.p_value <= options.test_alpha) ++point.detections;
       }
       point.detection_rate = static_cast<double>(point.detections) / point.seeds;

@@ -10,6 +10,7 @@
 #include "harness/diagnostics.h"
 #include "harness/errors.h"
 #include "harness/estimates_file.h"
+#include "harness/rounding_bound.h"
 #include "harness/statistics.h"
 #include "results/report.h"
 
@@ -70,11 +71,15 @@ int run_external_verification(const ExternalRequest& request, const SessionOptio
         .value = value.value,
         .kind = value.uncertainty > 0.0 ? ReferenceKind::kNumerical : ReferenceKind::kExact,
         .uncertainty = value.uncertainty};
-    verdict = test_against_reference(as_replicates(estimates), reference, request.expect);
+    verdict = test_against_reference(as_replicates(estimates), reference, request.expect,
+                                     kDecimalRoundings);
     reference_json = {{"value", value.value}, {"uncertainty", value.uncertainty}};
   } else {
     other = read_estimates(*request.against);
-    verdict = two_sample_verdict(welch_two_sample(estimates, other), request.expect);
+    const double bound = rounding_bound(as_replicates(estimates), kDecimalRoundings) +
+                         rounding_bound(as_replicates(other), kDecimalRoundings);
+    verdict = two_sample_verdict(with_rounding_floor(welch_two_sample(estimates, other), bound),
+                                 request.expect);
   }
   if (const std::optional<std::string> reason = untestable_reason(diagnostics)) {
     verdict = untested_verdict(*reason, request.expect);

@@ -20,6 +20,7 @@
 #include "harness/progress.h"
 #include "harness/replay.h"
 #include "harness/report_compare.h"
+#include "harness/rounding_bound.h"
 #include "harness/statistics.h"
 #include "harness/summary.h"
 #include "results/report.h"
@@ -79,7 +80,7 @@ Verdict verdict_for(const RunPlan& plan, const RunResult& result,
   if (const std::optional<std::string> reason = untestable_reason(diagnostics)) {
     return untested_verdict(*reason, expect);
   }
-  return test_against_reference(result.replicates, result.reference, expect);
+  return test_against_reference(result, expect);
 }
 
 }  // namespace
@@ -277,7 +278,12 @@ std::vector<std::pair<Comparison, Verdict>> pairwise_comparisons(
       std::vector<double> xa, xb;
       for (const ReplicateResult& r : a.result.replicates) xa.push_back(r.estimate);
       for (const ReplicateResult& r : b.result.replicates) xb.push_back(r.estimate);
-      const TwoSampleTest test = welch_two_sample(xa, xb);
+      // Each mean's rounding bound (rounding_bound.h): two runs of a constant integrand may
+      // differ by an ulp with no spread at all.
+      const TwoSampleTest test = with_rounding_floor(
+          welch_two_sample(xa, xb),
+          rounding_bound(a.result.replicates, sample_roundings(a.result.counters)) +
+              rounding_bound(b.result.replicates, sample_roundings(b.result.counters)));
       Comparison c = comparison_from(test, a.plan->id, b.plan->id, xa.size(), xb.size());
       c.estimator = a.plan->estimator->name + " vs " + b.plan->estimator->name;
       c.integrand = a.plan->integrand->name;

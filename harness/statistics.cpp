@@ -10,6 +10,7 @@
 #include <numeric>
 
 #include "harness/diagnostics.h"
+#include "harness/rounding_bound.h"
 #include "harness/tally.h"
 
 namespace pcbench {
@@ -257,7 +258,8 @@ Verdict untested_verdict(std::string reason, std::string expect) {
 }
 
 Verdict test_against_reference(const std::vector<ReplicateResult>& replicates,
-                               const Reference& reference, std::string expect) {
+                               const Reference& reference, std::string expect,
+                               double sample_roundings) {
   if (reference.kind == ReferenceKind::kNone) {
     return untested_verdict("no reference value to test against", std::move(expect));
   }
@@ -280,20 +282,47 @@ Verdict test_against_reference(const std::vector<ReplicateResult>& replicates,
     v.test_stderr = welch.stderr_of_difference;
     v.statistic = welch.statistic;
     v.p_value = welch.p_value;
-    return v;
-  }
-  v.test = "student_t";
-  v.dof = count - 1.0;
-  v.test_stderr = std::sqrt(se2);
-  v.statistic = bias / v.test_stderr;
-  if (se2 == 0.0) {
-    // Every replicate gave the same number: the test is exact.
-    v.statistic = bias == 0.0 ? 0.0 : std::copysign(std::numeric_limits<double>::infinity(), bias);
-    v.p_value = bias == 0.0 ? 1.0 : 0.0;
   } else {
+    v.test = "student_t";
+    v.dof = count - 1.0;
+    v.test_stderr = std::sqrt(se2);
+    v.statistic = bias / v.test_stderr;
+    if (se2 == 0.0) {
+      // Every replicate gave the same number (and the rounding bound is 0 too, or it replaces
+      // this below): the test is exact.
+      v.statistic =
+          bias == 0.0 ? 0.0 : std::copysign(std::numeric_limits<double>::infinity(), bias);
+      v.p_value = bias == 0.0 ? 1.0 : 0.0;
+    } else {
+      v.p_value = student_t_p_value(v.statistic, v.dof);
+    }
+  }
+  // A difference within what rounding alone can make is no evidence of bias (rounding_bound.h):
+  // below the bound, the bound is the standard error. The reference's own half ulp joins it.
+  v.measured_stderr = v.test_stderr;
+  v.rounding_bound =
+      rounding_bound(replicates, sample_roundings) + kUnitRoundoff * std::fabs(reference.value);
+  if (v.test_stderr < v.rounding_bound) {
+    v.test_stderr = v.rounding_bound;
+    v.statistic = bias / v.rounding_bound;
     v.p_value = student_t_p_value(v.statistic, v.dof);
   }
   return v;
+}
+
+Verdict test_against_reference(const RunResult& run, std::string expect) {
+  return test_against_reference(run.replicates, run.reference, std::move(expect),
+                                sample_roundings(run.counters));
+}
+
+TwoSampleTest with_rounding_floor(TwoSampleTest test, double bound) {
+  test.rounding_bound = bound;
+  if (test.stderr_of_difference < bound) {
+    test.stderr_of_difference = bound;
+    test.statistic = (test.mean_a - test.mean_b) / bound;
+    test.p_value = student_t_p_value(test.statistic, test.dof);
+  }
+  return test;
 }
 
 Verdict two_sample_verdict(const TwoSampleTest& test, std::string expect) {
@@ -305,6 +334,8 @@ Verdict two_sample_verdict(const TwoSampleTest& test, std::string expect) {
   v.dof = test.dof;
   v.p_value = test.p_value;
   v.test_stderr = test.stderr_of_difference;
+  v.rounding_bound = test.rounding_bound;
+  v.measured_stderr = std::hypot(test.stderr_a, test.stderr_b);
   v.reference_value = test.mean_b;
   v.mean_abs = std::fabs(test.mean_b);  // the scale of a small difference, absent ∫|f|
   return v;
@@ -338,16 +369,27 @@ void decide_family(std::vector<Verdict*>& verdicts, double alpha) {
       continue;
     }
     const bool two_sample = v.test == "welch_two_sample";
+    // The rounding floor (rounding_bound.h) is stated where it applied.
+    const bool at_rounding_bound = v.measured_stderr < v.rounding_bound;
+    const std::string floor =
+        at_rounding_bound
+            ? fmt::format(
+                  "standard error {:.3g} below the rounding bound {:.3g} (what rounding alone can "
+                  "move {} by): tested against the rounding bound; ",
+                  v.measured_stderr, v.rounding_bound, two_sample ? "the difference" : "the mean")
+            : "";
     v.reason =
-        reject ? fmt::format(
-                     "{} by {:.3g} standard errors (Holm-adjusted p = {:.3g} <= "
-                     "alpha = {})",
-                     two_sample ? "the two means differ" : "the mean differs from the reference",
-                     v.statistic, v.p_adjusted, alpha)
-               : fmt::format(
-                     "no evidence of {}: t = {:.3g}, Holm-adjusted p = {:.3g} > "
-                     "alpha = {}",
-                     two_sample ? "a difference" : "bias", v.statistic, v.p_adjusted, alpha);
+        floor +
+        (reject
+             ? fmt::format(
+                   "{} by {:.3g} {} (Holm-adjusted p = {:.3g} <= "
+                   "alpha = {})",
+                   two_sample ? "the two means differ" : "the mean differs from the reference",
+                   v.statistic, at_rounding_bound ? "rounding bounds" : "standard errors",
+                   v.p_adjusted, alpha)
+             : fmt::format("no evidence of {}: t = {:.3g}, Holm-adjusted p = {:.3g} > "
+                           "alpha = {}",
+                           two_sample ? "a difference" : "bias", v.statistic, v.p_adjusted, alpha));
     // The bias a two-sided test at the Bonferroni share alpha / m detects with 80% power
     // (normal-theory approximation with Student quantiles).
     const double share = alpha / static_cast<double>(m);

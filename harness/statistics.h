@@ -76,6 +76,10 @@ struct Verdict {
   double min_detectable_bias_vs_mean_abs = 0.0;  // relative to ∫∫ |f|: comparable across rows
   bool tested = false;                           // counts in the family
   double test_stderr = 0.0;                      // the test's denominator
+  // The rounding bound (harness/rounding_bound.h) and the standard error the estimates gave:
+  // test_stderr is the larger (0 and 0 without a bound: the untested, the tile tests).
+  double rounding_bound = 0.0;
+  double measured_stderr = 0.0;
   double reference_value = 0.0;
   double mean_abs = 0.0;
 };
@@ -116,9 +120,15 @@ std::optional<std::string> untestable_reason(const SampleDiagnostics& diagnostic
 // A verdict for a run that is not tested, and why (no reference; a declared infinite variance).
 Verdict untested_verdict(std::string reason, std::string expect);
 
-// The raw test of one run against its reference (no multiplicity correction yet).
+// The raw test of replicate estimates against their reference (no multiplicity correction
+// yet), Student's t or Welch's. Where its standard error is below the rounding bound
+// (harness/rounding_bound.h; `sample_roundings` is its s for these estimates) it tests against
+// the bound instead.
 Verdict test_against_reference(const std::vector<ReplicateResult>& replicates,
-                               const Reference& reference, std::string expect);
+                               const Reference& reference, std::string expect,
+                               double sample_roundings);
+// The same for a finished analytic run: its replicates and reference, s from its counters.
+Verdict test_against_reference(const RunResult& run, std::string expect);
 
 // Holm–Bonferroni over the tested verdicts: fills p_adjusted, alpha, result, reason and the
 // minimum detectable bias (which needs the family size m). Verdicts may be null (failed runs).
@@ -138,7 +148,8 @@ struct TwoSampleTest {
   double mean_b = 0.0;
   double stderr_a = 0.0;  // standard error of mean_a
   double stderr_b = 0.0;
-  double stderr_of_difference = 0.0;  // sqrt(stderr_a² + stderr_b²)
+  double stderr_of_difference = 0.0;  // sqrt(stderr_a² + stderr_b²), or the rounding bound
+  double rounding_bound = 0.0;        // 0 unless with_rounding_floor() gave one
 };
 TwoSampleTest welch_test(double mean_a, double variance_of_mean_a, double dof_a, double mean_b,
                          double variance_of_mean_b, double dof_b);
@@ -147,6 +158,11 @@ TwoSampleTest welch_test(double mean_a, double variance_of_mean_a, double dof_a,
 // NaN figures otherwise). When neither sample varies the test is exact: p = 1 for equal means,
 // 0 otherwise, and dof is (n_a - 1) + (n_b - 1).
 TwoSampleTest welch_two_sample(std::span<const double> a, std::span<const double> b);
+
+// The test against a standard error of at least `bound`, the sum of both sides' rounding bounds
+// (harness/rounding_bound.h): where stderr_of_difference is below it, the statistic and p-value
+// are those against the bound (dof unchanged).
+TwoSampleTest with_rounding_floor(TwoSampleTest test, double bound);
 
 // The raw verdict of a two-sample test (before the family's correction), so that it can join a
 // family with the runs' tests; the test's standard error gives its minimum detectable difference.

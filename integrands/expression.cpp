@@ -4,8 +4,11 @@
 #include <muParser.h>
 
 #include <algorithm>
+#include <numbers>
+#include <optional>
 
 #include "harness/errors.h"
+#include "integrands/expression_syntax.h"
 #include "integrands/point_integrand.h"
 
 namespace pcbench {
@@ -30,23 +33,29 @@ ExpressionModel::ExpressionModel(const ResolvedParams& params)
       camera_dims_(static_cast<int>(params.integer("camera_dims"))),
       exact_(params.has("exact") ? params.real("exact") : 0.0),
       has_exact_(params.has("exact")) {
-  // muparser parses lazily: evaluate once now so that a syntax error or an unknown variable is
-  // reported as bad input before any run starts, not as a failure inside one.
+  // muparser parses lazily: evaluate once now so that a syntax error, an unknown variable or what
+  // f must not hold (expression_syntax.h) is bad input before any run starts, not a failure
+  // inside one (or a silently different integrand).
+  std::optional<ExpressionProblem> problem;
   try {
     bind();
     std::fill_n(variables_.get(), light_dims_ + camera_dims_, 0.5);
     parser_->Eval();
+    problem = unsupported_construct(*parser_);
   } catch (const mu::Parser::exception_type& e) {
-    // muparser may report the position one past the end of the text; keep the caret on it.
-    const int pos = std::clamp(e.GetPos(), 0, static_cast<int>(expression_.size()));
-    std::vector<std::string> names;
-    for (int i = 0; i < light_dims_; ++i) names.push_back(fmt::format("x{}", i));
-    for (int i = 0; i < camera_dims_; ++i) names.push_back(fmt::format("y{}", i));
-    throw InputError(fmt::format(
-        "integrand 'expr', parameter 'f', position {}: {}\n  {}\n  {:>{}}\n"
-        "variables: {} (light_dims={}, camera_dims={})",
-        pos, e.GetMsg(), expression_, "^", pos + 1, join_names(names), light_dims_, camera_dims_));
+    problem = ExpressionProblem{.position = e.GetPos(), .message = e.GetMsg()};
   }
+  if (!problem) return;
+  // muparser may report the position one past the end of the text; keep the caret on it.
+  const int pos = std::clamp(problem->position, 0, static_cast<int>(expression_.size()));
+  std::vector<std::string> names;
+  for (int i = 0; i < light_dims_; ++i) names.push_back(fmt::format("x{}", i));
+  for (int i = 0; i < camera_dims_; ++i) names.push_back(fmt::format("y{}", i));
+  throw InputError(
+      fmt::format("integrand 'expr', parameter 'f', position {}: {}\n  {}\n  {:>{}}\n"
+                  "variables: {} (light_dims={}, camera_dims={})",
+                  pos, problem->message, expression_, "^", pos + 1, join_names(names), light_dims_,
+                  camera_dims_));
 }
 
 ExpressionModel::ExpressionModel(const ExpressionModel& other)
@@ -64,6 +73,13 @@ void ExpressionModel::bind() {
   const int count = light_dims_ + camera_dims_;
   variables_ = std::make_unique<double[]>(static_cast<std::size_t>(count));
   parser_ = std::make_unique<mu::Parser>();
+  // muparser 2.3.3 built with GCC (Debian's) defines _pi as 3.141592653589
+  // (muParserTemplateMagic.h: a shorter pi for speed), 2.5e-13 relative below pi: an integrand
+  // written with _pi would differ from its exact integral by that, which verify reports as bias
+  // once the standard error is smaller. Every constant muparser defines (_pi and _e; a test checks
+  // that list) is defined again at full double precision.
+  parser_->DefineConst("_pi", std::numbers::pi);
+  parser_->DefineConst("_e", std::numbers::e);
   for (int i = 0; i < light_dims_; ++i) {
     parser_->DefineVar(fmt::format("x{}", i), &variables_[static_cast<std::size_t>(i)]);
   }

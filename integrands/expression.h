@@ -1,7 +1,8 @@
 // expr: an integrand written as a muparser expression in a suite or on the command line.
 //
 //   f            the expression; light-side variables x0, x1, ..., camera-side y0, y1, ...,
-//                each uniform on [0, 1] (p(x) = p(y) = 1)
+//                each uniform on [0, 1] (p(x) = p(y) = 1); muparser's constants _pi and _e at
+//                full double precision
 //   light_dims   number of x variables (default 1)
 //   camera_dims  number of y variables (default 1)
 //   exact        optional: the exact value of ∫∫ f, which becomes the reference

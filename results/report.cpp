@@ -97,7 +97,8 @@ Json verdict_json(const Verdict& v, NumberWriter& numbers) {
       {"min_detectable_bias_vs_mean_abs",
        v.tested && v.mean_abs != 0.0 ? numbers.number(v.min_detectable_bias_vs_mean_abs,
                                                       "verdict/min_detectable_bias_vs_mean_abs")
-                                     : Json(nullptr)}};
+                                     : Json(nullptr)},
+      {"rounding_bound", figure(v.rounding_bound, "rounding_bound")}};
 }
 
 // The report keeps the 16 largest |estimates| of a replicate (the tail fit used more).

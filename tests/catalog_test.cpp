@@ -718,7 +718,7 @@ void expect_plain_unbiased_on_the_catalog(std::uint64_t samples, std::uint32_t r
   for (const RunPlan& plan : plans) {
     const RunResult result = execute_run(plan, {.seed = seed});
     ASSERT_EQ(result.status, RunStatus::kOk) << plan.integrand->name << ": " << result.error;
-    verdicts.push_back(test_against_reference(result.replicates, result.reference, "consistent"));
+    verdicts.push_back(test_against_reference(result, "consistent"));
   }
   std::vector<Verdict*> family;
   for (Verdict& v : verdicts) family.push_back(&v);

@@ -138,6 +138,49 @@ TEST_F(CliVerify, WithoutAReferenceEstimatorsAreComparedPairwise) {
   for (const auto& run : report["runs"]) EXPECT_EQ(run["verdict"]["result"], "inconclusive");
 }
 
+// A constant integrand: every replicate gives the same bits, so the standard error is 0, and the
+// mean may sit an ulp off the exact value (vc-all sums its 16 terms plainly). That is tested
+// against the rounding bound (harness/rounding_bound.h): consistent, and a wrong exact value is
+// still biased.
+TEST_F(CliVerify, ConstantIntegrandIsTestedAgainstTheRoundingBound) {
+  struct Case {
+    std::string f, exact, name;
+    int status;
+    std::string result;
+  };
+  const std::vector<Case> cases = {{"f=0.1+0*x0*y0", "exact=0.1", "tenth", 0, "consistent"},
+                                   {"f=1/3", "exact=0.3333333333333333", "third", 0, "consistent"},
+                                   {"f=0.1+0*x0*y0", "exact=0.1000001", "wrong", 1, "biased"}};
+  for (const Case& c : cases) {
+    const CliResult r = cli({"verify", "-e", "vc-all", "-i", "expr", "-p", c.f, "-p", c.exact, "-p",
+                             "M=16", "-n", "20000", "-r", "8", "-q", "--out", at(c.name)});
+    EXPECT_EQ(r.status, c.status) << c.f << " " << c.exact << "\n" << r.out << r.err;
+    const auto run = report(c.name)["runs"][0];
+    // The situation the rule is for: no spread, and a mean other than the exact value's double.
+    EXPECT_EQ(run["aggregates"]["stderr"], 0.0) << c.name;
+    EXPECT_NE(run["aggregates"]["mean"], run["reference"]["value"]) << c.name;
+    EXPECT_EQ(run["verdict"]["result"], c.result) << c.name;
+    EXPECT_GT(run["verdict"]["rounding_bound"].get<double>(), 0.0) << c.name;
+    EXPECT_NE(run["verdict"]["reason"].get<std::string>().find(
+                  "standard error 0 below the rounding bound"),
+              std::string::npos)
+        << run["verdict"]["reason"];
+  }
+  // Without an exact value the estimators are compared pairwise, each mean with its own bound:
+  // plain gives 0.1, vc-all 0.1 + 1 ulp.
+  const CliResult r = cli({"verify", "-e", "plain,vc-all", "-i", "expr", "-p", "f=0.1+0*x0*y0",
+                           "-p", "M=16", "-n", "20000", "-r", "8", "-q", "--out", at("pair")});
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  const auto pair = report("pair");
+  ASSERT_EQ(pair["comparisons"].size(), 1u);
+  const auto& c = pair["comparisons"][0];
+  EXPECT_NE(c["mean_a"], c["mean_b"]);
+  EXPECT_EQ(c["result"], "consistent") << c["reason"];
+  EXPECT_NE(c["reason"].get<std::string>().find("tested against the rounding bound"),
+            std::string::npos)
+      << c["reason"];
+}
+
 // Equal time: a pilot picks N from the CPU seconds per replicate, the report records it, the
 // id is that of the requested budget, and `--samples N` replays the same numbers. N depends on
 // the machine's speed, so the random numbers do too: the verdict is not asserted here (at

@@ -66,7 +66,7 @@ TEST(FullPlainUnbiased, LongRunOnTheOscillatoryFamily) {
       {{"light_dims", {"3"}}, {"camera_dims", {"2"}}, {"center", {"0.1"}}}, 10000000, 64);
   const RunResult result = execute_run(plan, {.seed = 4242});
   ASSERT_EQ(result.status, RunStatus::kOk);
-  Verdict v = test_against_reference(result.replicates, result.reference, "consistent");
+  Verdict v = test_against_reference(result, "consistent");
   std::vector<Verdict*> family = {&v};
   decide_family(family, 1e-4);
   EXPECT_EQ(v.result, "consistent") << v.reason;

@@ -218,7 +218,7 @@ TEST(ResamplingUnbiased, EveryConfigurationOnSignedAndPositiveIntegrands) {
   for (const RunPlan& p : plans) {
     const RunResult result = execute_run(p, {.seed = 5});
     ASSERT_EQ(result.status, RunStatus::kOk);
-    verdicts.push_back(test_against_reference(result.replicates, result.reference, "consistent"));
+    verdicts.push_back(test_against_reference(result, "consistent"));
   }
   std::vector<Verdict*> family;
   for (Verdict& v : verdicts) family.push_back(&v);

@@ -1,10 +1,13 @@
 #include "integrands/expression.h"
 
 #include <gtest/gtest.h>
+#include <muParser.h>
 
 #include <barrier>
 #include <cmath>
+#include <map>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -94,6 +97,33 @@ TEST(ExpressionEvaluate, ConstantExpressionIgnoresThePoint) {
   EXPECT_EQ(m.f(&x, &y), 2.5);
 }
 
+TEST(ExpressionConstants, PiAndEAreTheNearestDoubles) {
+  const double x = 0.3, y = 0.6;
+  EXPECT_EQ(model({{"f", "_pi"}}).f(&x, &y), std::numbers::pi);
+  EXPECT_EQ(model({{"f", "_e"}}).f(&x, &y), std::numbers::e);
+  EXPECT_EQ(model({{"f", "_pi + 0*x0*y0"}}).f(&x, &y), std::numbers::pi);
+}
+
+TEST(ExpressionConstants, EveryConstantOfMuparserIsDefinedAgain) {
+  // The constants pcbench defines at full precision; one muparser defines beyond these (a newer
+  // version) would keep muparser's value, which may be short (its _pi is 3.141592653589 in a GCC
+  // build), until it is added to ExpressionModel and here.
+  const std::map<std::string, double> redefined = {{"_pi", std::numbers::pi},
+                                                   {"_e", std::numbers::e}};
+  const mu::Parser plain;
+  ASSERT_FALSE(plain.GetConst().empty()) << "muparser defines no constants: nothing is checked";
+  const double x = 0.3, y = 0.6;
+  for (const auto& [name, muparser_value] : plain.GetConst()) {
+    const auto found = redefined.find(name);
+    if (found == redefined.end()) {
+      ADD_FAILURE() << "muparser defines " << name << " = " << muparser_value
+                    << ", which pcbench does not define again";
+      continue;
+    }
+    EXPECT_EQ(model({{"f", name}}).f(&x, &y), found->second) << name;
+  }
+}
+
 TEST(ExpressionErrors, SyntaxErrorShowsPositionCaretAndVariables) {
   const std::string message = model_error({{"f", "x0 +* y0"}});
   ASSERT_FALSE(message.empty()) << "the syntax error was not reported";
@@ -119,6 +149,49 @@ TEST(ExpressionErrors, VariableBeyondTheDeclaredDimensionsIsUnknown) {
   const std::string camera = model_error({{"f", "x0 + y1"}});
   ASSERT_FALSE(camera.empty()) << "y1 was accepted with camera_dims=1";
   expect_caret(camera, "x0 + y1", 5);
+}
+
+TEST(ExpressionErrors, SeveralValuesPointAtTheCommaBetweenThem) {
+  const std::string message = model_error({{"f", "x0, y0"}});
+  ASSERT_FALSE(message.empty()) << "x0, y0 was accepted (muparser returns two values)";
+  EXPECT_TRUE(contains(message,
+                       "integrand 'expr', parameter 'f', position 2: ',' outside a "
+                       "function's arguments separates several expressions"))
+      << message;
+  EXPECT_TRUE(contains(message, "variables: x0, y0")) << message;
+  expect_caret(message, "x0, y0", 2);
+  // The comma outside the function's parentheses, not the one between its arguments.
+  expect_caret(model_error({{"f", "min(x0, y0), x0"}}), "min(x0, y0), x0", 11);
+  expect_caret(model_error({{"f", " x0 ,y0"}}), " x0 ,y0", 4);
+  expect_caret(model_error({{"f", "1e-3*x0,2.5"}}), "1e-3*x0,2.5", 7);
+}
+
+TEST(ExpressionErrors, AssignmentPointsAtTheEquals) {
+  const std::string message = model_error({{"f", "x0=2"}});
+  ASSERT_FALSE(message.empty()) << "the assignment x0=2 was accepted";
+  EXPECT_TRUE(contains(message,
+                       "integrand 'expr', parameter 'f', position 2: '=' assigns to a "
+                       "variable"))
+      << message;
+  expect_caret(message, "x0=2", 2);
+  expect_caret(model_error({{"f", "(x0=2)+1"}}), "(x0=2)+1", 3);
+  expect_caret(model_error({{"f", "y0 == 1 + (x0 = 0.5)"}}), "y0 == 1 + (x0 = 0.5)", 14);
+  EXPECT_THROW(model({{"f", "x0=2"}}), InputError);
+  EXPECT_THROW(model({{"f", "x0, y0"}}), InputError);
+}
+
+TEST(ExpressionEvaluate, CommasBetweenArgumentsAndComparisonsStayValid) {
+  const double x = 0.25, y = 0.75;
+  EXPECT_EQ(model({{"f", "min(x0, y0)"}}).f(&x, &y), 0.25);
+  EXPECT_EQ(model({{"f", "max(x0, y0, 0.5)"}}).f(&x, &y), 0.75);
+  EXPECT_EQ(model({{"f", "sum(x0, y0) + avg(x0,y0)"}}).f(&x, &y), 1.5);
+  EXPECT_EQ(model({{"f", "min(max(x0, y0), 0.5)"}}).f(&x, &y), 0.5);
+  EXPECT_EQ(model({{"f", "atan2(y0, x0)"}}).f(&x, &y), std::atan2(0.75, 0.25));
+  EXPECT_EQ(model({{"f", "x0 == y0"}}).f(&x, &y), 0.0);
+  EXPECT_EQ(model({{"f", "x0 != y0"}}).f(&x, &y), 1.0);
+  EXPECT_EQ(model({{"f", "x0 <= y0"}}).f(&x, &y), 1.0);
+  EXPECT_EQ(model({{"f", "x0 >= y0"}}).f(&x, &y), 0.0);
+  EXPECT_EQ(model({{"f", "x0 < y0 ? min(x0, 1) : y0"}}).f(&x, &y), 0.25);
 }
 
 TEST(ExpressionErrors, ErrorIsAnInputErrorSoItIsBadInput) {

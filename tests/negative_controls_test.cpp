@@ -36,7 +36,7 @@ std::vector<Verdict> verdicts_of(const std::vector<RunPlan>& plans, double alpha
   for (const RunPlan& plan : plans) {
     const RunResult result = execute_run(plan, {.seed = 11});
     EXPECT_EQ(result.status, RunStatus::kOk) << plan.where;
-    verdicts.push_back(test_against_reference(result.replicates, result.reference, "biased"));
+    verdicts.push_back(test_against_reference(result, "biased"));
   }
   std::vector<Verdict*> family;
   for (Verdict& v : verdicts) family.push_back(&v);

@@ -10,6 +10,7 @@
 
 #include "harness/plan.h"
 #include "harness/rng.h"
+#include "harness/rounding_bound.h"
 #include "harness/runner.h"
 
 namespace pcbench {
@@ -33,6 +34,9 @@ std::vector<ReplicateResult> replicates_of(const std::vector<double>& estimates,
 Reference exact(double value) {
   return {.value = value, .kind = ReferenceKind::kExact};
 }
+
+// Hand-made replicate estimates have no per-sample arithmetic for the rounding bound to count.
+constexpr double kHandMade = 0.0;
 
 // ---------------------------------------------------------------------------------------------
 // Student's t
@@ -106,7 +110,8 @@ TEST(StatisticsAggregate, ZeroReferenceLeavesRelativeMseUndefined) {
 // test_against_reference
 
 TEST(StatisticsTest, NoReferenceIsInconclusiveAndNotTested) {
-  const Verdict v = test_against_reference(replicates_of({1, 2, 3}), Reference{}, "consistent");
+  const Verdict v =
+      test_against_reference(replicates_of({1, 2, 3}), Reference{}, "consistent", kHandMade);
   EXPECT_FALSE(v.tested);
   EXPECT_EQ(v.test, "none");
   EXPECT_EQ(v.result, "inconclusive");
@@ -116,7 +121,8 @@ TEST(StatisticsTest, NoReferenceIsInconclusiveAndNotTested) {
 }
 
 TEST(StatisticsTest, OneSampleTOnAHandMadeRun) {
-  const Verdict v = test_against_reference(replicates_of({1, 2, 3, 4}), exact(2.0), "consistent");
+  const Verdict v =
+      test_against_reference(replicates_of({1, 2, 3, 4}), exact(2.0), "consistent", kHandMade);
   EXPECT_TRUE(v.tested);
   EXPECT_EQ(v.test, "student_t");
   EXPECT_EQ(v.dof, 3.0);
@@ -129,25 +135,40 @@ TEST(StatisticsTest, OneSampleTOnAHandMadeRun) {
 }
 
 TEST(StatisticsTest, ZeroSpreadWithoutBiasHasPOne) {
-  const Verdict v = test_against_reference(replicates_of({2, 2, 2}), exact(2.0), "consistent");
+  const Verdict v =
+      test_against_reference(replicates_of({2, 2, 2}), exact(2.0), "consistent", kHandMade);
   EXPECT_TRUE(v.tested);
   EXPECT_EQ(v.statistic, 0.0);
   EXPECT_EQ(v.p_value, 1.0);
 }
 
-TEST(StatisticsTest, ZeroSpreadWithBiasHasPZero) {
-  const Verdict above = test_against_reference(replicates_of({2, 2, 2}), exact(1.0), "");
-  EXPECT_EQ(above.p_value, 0.0);
-  EXPECT_EQ(above.statistic, kInf);
-  const Verdict below = test_against_reference(replicates_of({2, 2, 2}), exact(3.0), "");
-  EXPECT_EQ(below.p_value, 0.0);
-  EXPECT_EQ(below.statistic, -kInf);
+TEST(StatisticsTest, ZeroSpreadWithBiasIsTestedAgainstTheRoundingBound) {
+  // No spread: the standard error is the rounding bound u (6 |m| + |r|), and a bias of 1 is
+  // 10^14 of them (before the bound, t was infinite and p exactly 0).
+  const Verdict above = test_against_reference(replicates_of({2, 2, 2}), exact(1.0), "", kHandMade);
+  EXPECT_EQ(above.rounding_bound, kUnitRoundoff * (6.0 * 2.0 + 1.0));
+  EXPECT_EQ(above.test_stderr, above.rounding_bound);
+  EXPECT_EQ(above.measured_stderr, 0.0);
+  EXPECT_DOUBLE_EQ(above.statistic, 1.0 / above.rounding_bound);
+  EXPECT_LT(above.p_value, 1e-25);
+  const Verdict below = test_against_reference(replicates_of({2, 2, 2}), exact(3.0), "", kHandMade);
+  EXPECT_DOUBLE_EQ(below.statistic, -1.0 / below.rounding_bound);
+  EXPECT_LT(below.p_value, 1e-25);
+}
+
+TEST(StatisticsTest, ZeroSpreadAndZeroBoundIsExact) {
+  // All zero: no bound to speak of, and the test stays exact.
+  const Verdict v = test_against_reference(replicates_of({0, 0, 0}), exact(0.0), "", kHandMade);
+  EXPECT_EQ(v.rounding_bound, 0.0);
+  EXPECT_EQ(v.statistic, 0.0);
+  EXPECT_EQ(v.p_value, 1.0);
 }
 
 TEST(StatisticsTest, WelchWhenTheReferenceHasAnUncertainty) {
   const Reference reference{
       .value = 2.0, .kind = ReferenceKind::kNumerical, .uncertainty = 0.3, .dof = 20};
-  const Verdict v = test_against_reference(replicates_of({1, 2, 3, 4}), reference, "consistent");
+  const Verdict v =
+      test_against_reference(replicates_of({1, 2, 3, 4}), reference, "consistent", kHandMade);
   const double se2 = 5.0 / 12.0, u2 = 0.09;
   EXPECT_EQ(v.test, "welch");
   EXPECT_DOUBLE_EQ(v.test_stderr, std::sqrt(se2 + u2));
@@ -160,7 +181,7 @@ TEST(StatisticsTest, WelchWhenTheReferenceHasAnUncertainty) {
 
 TEST(StatisticsTest, WelchWithAnInfiniteDofReference) {
   const Reference reference{.value = 2.0, .kind = ReferenceKind::kRendered, .uncertainty = 0.3};
-  const Verdict v = test_against_reference(replicates_of({1, 2, 3, 4}), reference, "");
+  const Verdict v = test_against_reference(replicates_of({1, 2, 3, 4}), reference, "", kHandMade);
   const double se2 = 5.0 / 12.0, u2 = 0.09;
   EXPECT_EQ(v.test, "welch");
   EXPECT_DOUBLE_EQ(v.dof, (se2 + u2) * (se2 + u2) / (se2 * se2 / 3.0));
@@ -169,7 +190,7 @@ TEST(StatisticsTest, WelchWithAnInfiniteDofReference) {
 
 TEST(StatisticsTest, WelchWithZeroSpreadTestsAgainstTheReferenceUncertaintyAlone) {
   const Reference reference{.value = 2.6, .kind = ReferenceKind::kRendered, .uncertainty = 0.3};
-  Verdict v = test_against_reference(replicates_of({2, 2, 2}), reference, "");
+  Verdict v = test_against_reference(replicates_of({2, 2, 2}), reference, "", kHandMade);
   EXPECT_EQ(v.test, "welch");
   EXPECT_DOUBLE_EQ(v.statistic, -2.0);
   EXPECT_EQ(v.dof, kInf);
@@ -178,6 +199,112 @@ TEST(StatisticsTest, WelchWithZeroSpreadTestsAgainstTheReferenceUncertaintyAlone
   decide_family(family, 0.05);
   EXPECT_EQ(v.result, "biased");
   EXPECT_NEAR(v.min_detectable_bias, 2.80158 * 0.3, 1e-4);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The rounding bound (harness/rounding_bound.h)
+
+// R replicates that all gave `estimate`, each from samples of Σ|terms| = `mean_abs`: a constant
+// integrand.
+std::vector<ReplicateResult> constant_replicates(double estimate, double mean_abs,
+                                                 std::size_t count = 8) {
+  std::vector<ReplicateResult> out = replicates_of(std::vector<double>(count, estimate));
+  for (ReplicateResult& r : out) r.mean_abs = mean_abs;
+  return out;
+}
+
+// The verdict of `v` alone in a family at alpha = 0.01.
+Verdict decided(Verdict v) {
+  std::vector<Verdict*> family = {&v};
+  decide_family(family, 0.01);
+  return v;
+}
+
+TEST(StatisticsRoundingBound, SampleRoundingsCountTermsAndImportanceEvaluations) {
+  // vc-all at M = 16: 16 connections per camera sample, no importance.
+  EXPECT_EQ(sample_roundings({.camera_paths = 100, .connections = 1600}), kTermRoundings + 16.0);
+  // pcbpt at M = 64, K = 4: P's normaliser sums 64 importances.
+  EXPECT_EQ(
+      sample_roundings({.camera_paths = 10, .connections = 40, .importance_evaluations = 640}),
+      kTermRoundings + 68.0);
+  EXPECT_EQ(sample_roundings({}), kTermRoundings);
+}
+
+TEST(StatisticsRoundingBound, IsUnitRoundoffTimesTheStatedCounts) {
+  std::vector<ReplicateResult> reps = constant_replicates(-0.5, 2.0, 4);
+  EXPECT_EQ(rounding_bound(reps, 31.0), kUnitRoundoff * (31.0 * 2.0 + 6.0 * 0.5));
+  // Against a reference its half ulp joins: u (s A + 6 |m| + |r|).
+  const Verdict v = test_against_reference(reps, exact(-0.25), "", 31.0);
+  EXPECT_EQ(v.rounding_bound, kUnitRoundoff * (31.0 * 2.0 + 6.0 * 0.5 + 0.25));
+}
+
+TEST(StatisticsRoundingBound, AConstantIntegrandOneUlpOffIsConsistent) {
+  // vc-all at M = 16 on f = 0.1 gave 0.1 + 1 ulp in every replicate (a plain sum of 16 terms):
+  // before the bound, "differs by inf standard errors".
+  const double one_ulp_above = std::nextafter(0.1, 1.0);
+  const Verdict v =
+      decided(test_against_reference(constant_replicates(one_ulp_above, one_ulp_above), exact(0.1),
+                                     "consistent", kTermRoundings + 16.0));
+  EXPECT_EQ(v.measured_stderr, 0.0);
+  EXPECT_GT(v.rounding_bound, one_ulp_above - 0.1);
+  EXPECT_EQ(v.test_stderr, v.rounding_bound);
+  EXPECT_EQ(v.result, "consistent") << v.reason;
+  EXPECT_NE(v.reason.find("standard error 0 below the rounding bound"), std::string::npos)
+      << v.reason;
+  EXPECT_NE(v.reason.find("tested against the rounding bound; no evidence of bias"),
+            std::string::npos)
+      << v.reason;
+  // What the test could detect is a few bounds, not 0.
+  EXPECT_GT(v.min_detectable_bias, v.rounding_bound);
+  EXPECT_LT(v.min_detectable_bias, 10.0 * v.rounding_bound);
+}
+
+TEST(StatisticsRoundingBound, AConstantIntegrandAgainstAWrongExactValueIsBiased) {
+  const Verdict v = decided(test_against_reference(constant_replicates(0.1, 0.1), exact(0.1000001),
+                                                   "biased", kTermRoundings + 16.0));
+  EXPECT_EQ(v.result, "biased") << v.reason;
+  EXPECT_LT(v.p_value, 1e-50);  // t = 2.4e8 with 7 dof
+  EXPECT_NE(v.reason.find("tested against the rounding bound; the mean differs from the "
+                          "reference by"),
+            std::string::npos)
+      << v.reason;
+  EXPECT_NE(v.reason.find("rounding bounds"), std::string::npos) << v.reason;
+}
+
+TEST(StatisticsRoundingBound, ASpreadAboveTheBoundIsTestedAsBefore) {
+  const Verdict v = decided(test_against_reference(replicates_of({1, 2, 3, 4}), exact(2.0),
+                                                   "consistent", kTermRoundings));
+  EXPECT_GT(v.rounding_bound, 0.0);
+  EXPECT_EQ(v.test_stderr, v.measured_stderr);
+  EXPECT_DOUBLE_EQ(v.test_stderr, std::sqrt(5.0 / 12.0));
+  EXPECT_EQ(v.reason.find("rounding bound"), std::string::npos) << v.reason;
+}
+
+TEST(StatisticsRoundingBound, TwoSampleTestOfTwoConstantsOneUlpApart) {
+  const double one_ulp_above = std::nextafter(0.1, 1.0);
+  const std::vector<double> a(8, 0.1), b(8, one_ulp_above);
+  const TwoSampleTest raw = welch_two_sample(a, b);
+  EXPECT_EQ(raw.p_value, 0.0);  // what the pairwise comparison said before the bound
+  const double bound =
+      rounding_bound(constant_replicates(0.1, 0.1), kTermRoundings + 16.0) +
+      rounding_bound(constant_replicates(one_ulp_above, one_ulp_above), kTermRoundings + 16.0);
+  const TwoSampleTest floored = with_rounding_floor(raw, bound);
+  EXPECT_EQ(floored.stderr_of_difference, bound);
+  EXPECT_EQ(floored.dof, raw.dof);
+  const Verdict v = decided(two_sample_verdict(floored, "consistent"));
+  EXPECT_EQ(v.result, "consistent") << v.reason;
+  EXPECT_NE(v.reason.find("below the rounding bound"), std::string::npos) << v.reason;
+
+  const std::vector<double> c(8, 0.1000001);
+  EXPECT_EQ(
+      decided(two_sample_verdict(with_rounding_floor(welch_two_sample(a, c), bound), "")).result,
+      "biased");
+  // Samples that vary are tested as before.
+  const TwoSampleTest spread =
+      welch_two_sample(std::vector<double>{1, 2, 3}, std::vector<double>{2, 3, 4});
+  const TwoSampleTest kept = with_rounding_floor(spread, bound);
+  EXPECT_EQ(kept.stderr_of_difference, spread.stderr_of_difference);
+  EXPECT_EQ(kept.p_value, spread.p_value);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -244,7 +371,8 @@ TEST(StatisticsHolm, BiasedExactlyWhenAdjustedPIsAtMostAlpha) {
 
 TEST(StatisticsHolm, UntestedAndNullVerdictsDoNotCountInTheFamily) {
   Verdict a = tested_with_p(0.01), b = tested_with_p(0.04), c = tested_with_p(0.03);
-  Verdict untested = test_against_reference(replicates_of({1, 2}), Reference{}, "consistent");
+  Verdict untested =
+      test_against_reference(replicates_of({1, 2}), Reference{}, "consistent", kHandMade);
   std::vector<Verdict*> family = {&a, nullptr, &untested, &b, &c};
   decide_family(family, 0.05);
   EXPECT_NEAR(a.p_adjusted, 0.03, 1e-15);  // m = 3, not 4 or 5
@@ -310,7 +438,7 @@ TEST(StatisticsCalibration, OneSampleTFalseAlarmRateIsAlpha) {
     std::vector<double> estimates(kReplicates);
     for (double& e : estimates) e = reference + sigma * standard_normal(rng);
     const Verdict v =
-        test_against_reference(replicates_of(estimates), exact(reference), "consistent");
+        test_against_reference(replicates_of(estimates), exact(reference), "consistent", kHandMade);
     ASSERT_EQ(v.test, "student_t");
     if (v.p_value <= kAlpha) ++false_alarms;
   }

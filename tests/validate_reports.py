@@ -326,8 +326,8 @@ def main():
             ("d-cli-grid", ["run", "-e", "plain", "-i", "genz-gaussian,genz-oscillatory",
                             "-n", "2000", "-r", "4"], 0, False),
             ("e-suite", ["run", suite_path], 0, False),
-            # Every replicate gives the same wrong value: an infinite t statistic, written null
-            # and named in nonfinite_fields; the verdict is biased against expectation: exit 1.
+            # Every replicate gives the same wrong value: no spread, so it is tested against the
+            # rounding bound (a finite t); the verdict is biased against expectation: exit 1.
             ("g-constant-biased", ["run", "-e", "plain", "-i", "expr", "-p", "f=1", "-p",
                                    "exact=2", "-n", "100", "-r", "3"], 1, False),
             # The verifier's report shapes: exact checks, a negative control on its declared
@@ -463,6 +463,16 @@ def main():
               and agg["mean"] is not None and run["nonfinite_fields"] == [],
               "c-no-reference: bias/rmse/rel_mse null but not named non-finite")
         check(c["context"]["seed"] == 5, "c-no-reference: context records --seed 5")
+
+    g = reports.get("g-constant-biased")
+    if g:
+        verdict = g["runs"][0]["verdict"]
+        check(verdict["result"] == "biased" and verdict["statistic"] is not None
+              and verdict["rounding_bound"] > 0
+              and "tested against the rounding bound" in verdict["reason"]
+              and g["runs"][0]["aggregates"]["stderr"] == 0,
+              "g-constant-biased: no spread, tested against the rounding bound, biased",
+              json.dumps(verdict))
 
     d = reports.get("d-cli-grid")
     if d:
