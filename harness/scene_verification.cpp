@@ -11,6 +11,7 @@
 #include "harness/image_errors.h"
 #include "harness/image_statistics.h"
 #include "harness/strategy_image_file.h"
+#include "harness/tile_checks.h"
 #include "integrands/scenes/scene_integrand.h"
 #include "results/exr_file.h"
 
@@ -33,12 +34,6 @@ bool same_scene(const RunRecord& a, const RunRecord& b) {
 
 bool samples_all_paths(const RunRecord& r, const scene::Scene& s) {
   return scene::samples_all_paths(r.plan->render->method, s);
-}
-
-Image constant_image(const scene::Scene& s, const scene::Rgb& value) {
-  Image image(s.description().width, s.description().height);
-  for (std::size_t i = 0; i < image.values.size(); ++i) image.values[i] = value[i % 3];
-  return image;
 }
 
 Verdict tile_verdict(const TileTestResult& t, std::string expect) {
@@ -75,21 +70,6 @@ Comparison tile_comparison(const RunRecord& a, std::string b_id, std::string b_n
   return c;
 }
 
-// Adds `bias` to channel `channel` of every pixel of tile (tx, ty) in every replicate.
-std::vector<Image> with_tile_bias(std::vector<Image> images, const TileTest& tile,
-                                  std::uint32_t size, double bias) {
-  for (Image& image : images) {
-    for (std::uint32_t y = tile.tile_y * size; y < std::min(image.height, (tile.tile_y + 1) * size);
-         ++y) {
-      for (std::uint32_t x = tile.tile_x * size;
-           x < std::min(image.width, (tile.tile_x + 1) * size); ++x) {
-        image.at(x, y, tile.channel) += bias;
-      }
-    }
-  }
-  return images;
-}
-
 // Closest-hit and shadow rays per CPU second over the run (all threads' CPU time).
 double rays_per_cpu_second(const RunRecord& r) {
   std::uint64_t rays = 0;
@@ -121,9 +101,8 @@ std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
     const SceneIntegrand* scene = scene_of(a);
     if (!scene) continue;
     const bool a_biased = a.plan->estimator->biased;
-    if (scene->exact_radiance()) {
-      const TileTestResult t = test_tiles_against_exact(
-          a.result.images, constant_image(scene->scene(), *scene->exact_radiance()), alpha);
+    if (const std::optional<Image> exact = exact_image(*scene)) {
+      const TileTestResult t = test_tiles_against_exact(a.result.images, *exact, alpha);
       const std::string expect = a_biased ? "biased" : "consistent";
       out.emplace_back(tile_comparison(a, "exact", "exact", t, expect), tile_verdict(t, expect));
     }
@@ -141,18 +120,16 @@ std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
       // brightest tested tile of one honest run, must be flagged.
       if (biased == 0 && !injected[a.plan->integrand] && !t.tiles.empty()) {
         injected[a.plan->integrand] = true;
-        const auto brightest = std::max_element(
-            t.tiles.begin(), t.tiles.end(),
-            [](const TileTest& x, const TileTest& y) { return x.mean_a < y.mean_a; });
-        const double bias = 2.0 * brightest->min_detectable_bias;
+        const TileTest& brightest = brightest_tile(t);
+        const double bias = 2.0 * brightest.min_detectable_bias;
         const TileTestResult shifted =
-            compare_tiles(with_tile_bias(a.result.images, *brightest, TileOptions{}.tile, bias),
+            compare_tiles(with_tile_bias(a.result.images, brightest, TileOptions{}.tile, bias),
                           b.result.images, alpha);
         Comparison c = tile_comparison(
             a, b.plan->id,
             b.plan->estimator->name + fmt::format(" (tile {},{} channel {} + 2×MDB = {:.3g})",
-                                                  brightest->tile_x, brightest->tile_y,
-                                                  brightest->channel, bias),
+                                                  brightest.tile_x, brightest.tile_y,
+                                                  brightest.channel, bias),
             shifted, "biased");
         c.a += "+injected";
         out.emplace_back(std::move(c), tile_verdict(shifted, "biased"));
@@ -231,13 +208,8 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder,
 
     // The pixel test: against the exact image, or else the best other honest run of this
     // session (never the cache: verification trusts no stored image).
-    std::optional<Image> exact;
-    const RunRecord* other = nullptr;
-    if (scene->exact_radiance()) {
-      exact = constant_image(scene->scene(), *scene->exact_radiance());
-    } else {
-      other = best_other(converged[r.plan->integrand], &r);
-    }
+    const std::optional<Image> exact = exact_image(*scene);
+    const RunRecord* other = exact ? nullptr : best_other(converged[r.plan->integrand], &r);
     if (exact || other) {
       const Image z = other ? z_map(s, stats.at(other)) : z_map(s, *exact);
       const PixelTestSummary pixels =
