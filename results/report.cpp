@@ -293,6 +293,7 @@ std::string report_json(const Context& context, const std::string& suite_name,
     report["exact_checks"] = checks;
   }
   if (sections.calibration) report["calibration"] = *sections.calibration;
+  if (sections.tile_calibration) report["tile_calibration"] = *sections.tile_calibration;
   if (!sections.external.empty()) report["external"] = sections.external;
   if (!sections.efficiency_ratios.empty()) {
     report["efficiency_ratios"] = sections.efficiency_ratios;
