@@ -436,7 +436,7 @@ void add_calibrate_options(CLI::App* app, CalibrateArguments& calibration, RunAr
                   "replicates per run (default 16; on scenes 8 images)")
       ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
   app->add_option("--seeds", calibration.seeds,
-                  "seeds (runs) per estimator (default 200; on scenes 400)")
+                  "seeds (runs) per estimator (default 200; on scenes 1000)")
       ->check(CLI::Range(std::uint32_t{20}, std::uint32_t{1000000}));
   add_seed_and_threads_options(app, args);
   app->add_option("--out,-o", args.out_dir, "output folder (default results/runs/<date-time>/)");

@@ -681,14 +681,14 @@ void print_tile_calibration(const TileCalibrationResult& result, std::ostream& o
       "one-sided binomial p and its fixed tile's KS p are >= {}\n",
       o.first_seed, o.first_seed + o.seeds - 1, o.replicates, o.samples, o.test_alpha,
       o.pass_threshold);
-  out << fmt::format("{:<16} {:<34} {:>4} {:>12} {:>22} {:>8} {:>9} {:>9} {:>9}  {}\n", "scene",
+  out << fmt::format("{:<16} {:<44} {:>4} {:>12} {:>22} {:>8} {:>9} {:>9} {:>9}  {}\n", "scene",
                      "comparison", "T", "false alarms", "rate [95% Wilson]", "expected", "binom p",
                      "upper p", "tile KS p", "pass");
   for (const TileSizeRow& row : result.rows) {
     const std::string name =
         fmt::format("{} vs {}{}", row.estimator_a, row.estimator_b, row.biased ? " (biased)" : "");
     out << fmt::format(
-        "{:<16} {:<34} {:>4} {:>12} {:>22} {:>8.1f} {:>9.3g} {:>9.3g} {:>9.3g}  {}\n",
+        "{:<16} {:<44} {:>4} {:>12} {:>22} {:>8.1f} {:>9.3g} {:>9.3g} {:>9.3g}  {}\n",
         fmt::format("{} {}x{}", row.scene, row.width, row.height), name, row.tests,
         fmt::format("{} / {}", row.false_alarms, row.seeds),
         fmt::format("{:.3f} [{:.3f}, {:.3f}]", row.false_alarm_rate, row.wilson_low,

@@ -12,7 +12,7 @@
 //     compares every pair of estimators (independent runs: their plans have different ids, so
 //     different random streams, as in a session). A row counts the seeds whose comparison
 //     rejects (family-wise false alarms). Holm is conservative and the tests of one tile's
-//     channels are correlated, so the rate is at most α, not α: the meaningful failure is "more
+//     channels are correlated, so the rate is at most α, not α itself: the failure is "more
 //     alarms than α allows", the one-sided binomial p-value P(X >= alarms), X ~ Binomial(seeds,
 //     α). The smallest adjusted p over seeds is not uniform (it is T × a minimum), so it is not
 //     KS-tested; instead the raw p-value of one fixed tile×channel test (the tile at the image
@@ -35,10 +35,10 @@
 //     test (its raw p <= s, Holm's first threshold), also counted: the other tiles' false alarms
 //     add at most the row's false-alarm rate. The centre tile is chosen before any sample is
 //     seen, so its unbiased statistic is centred and the predictions hold for it. The brightest
-//     tile is chosen on the sample tested: the largest tile mean of a favours tiles whose noise
-//     in a is positive, so its unbiased statistic is not centred (mean_statistic) and a positive
-//     bias there is found more often than predicted; that curve measures the self-check as a
-//     session runs it.
+//     tile is chosen on the sample tested: where two tiles are about as bright, the largest tile
+//     mean of a favours the one whose noise in a is positive, so its unbiased statistic is not
+//     centred (mean_statistic) and a positive bias there is found more often than predicted;
+//     that curve measures the self-check as a session runs it.
 //
 // Deterministic: seeds run in parallel, each into its own slot; a scene run is bitwise the same
 // for any thread count.
@@ -68,11 +68,11 @@ struct TileCalibrationOptions {
   // which is near normal already; the calibration needs many seeds, not converged images.
   std::uint64_t samples = 4;
   std::uint32_t replicates = 8;  // images per run (Welch dof up to 2R - 2)
-  std::uint32_t seeds = 400;
+  std::uint32_t seeds = 1000;
   std::uint64_t first_seed = 1;
   // Every comparison is decided alone at this α (a false alarm, or a detection, is a
-  // rejection). 0.05 as for the runs' calibration: at the session's 0.01, 400 seeds would
-  // expect at most 4 false alarms, too few to measure a rate.
+  // rejection). 0.05 as for the runs' calibration: at the session's 0.01, 1000 seeds would
+  // expect at most 10 false alarms (Holm being conservative, fewer), too few to measure a rate.
   double test_alpha = 0.05;
   // A row passes when its one-sided binomial p and its fixed tile's KS p are both >= this: the
   // error budget of the calibration itself. With the defaults, 3 rows (furnace × 2 estimators,

@@ -274,7 +274,7 @@ TEST(TileCalibration, BadOptionsAreInputErrors) {
   EXPECT_TRUE(furnace.power.empty());
 }
 
-// The full form: the defaults (32×32, 4 spp × 8 replicates, 400 seeds). Same checks and error
+// The full form: the defaults (32×32, 4 spp × 8 replicates, 1000 seeds). Same checks and error
 // budget as the short form. Prints the tables quoted in the README.
 TEST(TileCalibrationFull, DefaultOptions) {
   const TileCalibrationResult result = calibrate_tiles({});
