@@ -408,11 +408,11 @@ int replay_command_line(const RunArguments& args, const ReplayRequest& request, 
 }
 
 // `pcbench calibrate`: of the run test on an analytic integrand (harness/calibration.h), of the
-// tile test on scenes (harness/tile_calibration.h). Unset options take each one's defaults.
+// tile test on scenes (harness/tile_calibration.h). Unset options take each one's defaults;
+// --param, the seed, threads and output go to the RunArguments that `run` uses.
 struct CalibrateArguments {
   std::vector<std::string> estimators;
   std::vector<std::string> integrands;
-  std::vector<std::string> params;  // key=value, one value each
   std::uint64_t samples = 0;
   std::uint32_t replicates = 0;
   std::uint32_t seeds = 0;
@@ -427,7 +427,7 @@ void add_calibrate_options(CLI::App* app, CalibrateArguments& calibration, RunAr
                   "integrand with an exact reference (default genz-gaussian), or scenes: the tile "
                   "test against the exact image (furnace) and between estimators (others)")
       ->delimiter(',');
-  app->add_option("--param,-p", calibration.params,
+  app->add_option("--param,-p", args.params,
                   "key=value for the estimators and the integrand (resolution, ...), repeatable");
   app->add_option("--samples,-n", calibration.samples,
                   "samples per replicate (default 1000; on scenes samples per pixel, 4)")
@@ -443,17 +443,18 @@ void add_calibrate_options(CLI::App* app, CalibrateArguments& calibration, RunAr
   app->add_flag("--quiet,-q", args.quiet, "no table");
 }
 
-ParamText calibrate_params(const std::vector<std::string>& flags) {
+// The calibration's parameters, parsed as `run` parses them but one value per key: a
+// calibration is of one configuration (a grid would be several calibrations).
+ParamText calibrate_params(const RunArguments& args, const std::vector<std::string>& estimators,
+                           const std::vector<std::string>& integrands) {
+  GridRequest grid{.estimators = estimators, .integrands = integrands};
   ParamText params;
-  for (const std::string& param : flags) {
-    const auto equals = param.find('=');
-    if (equals == std::string::npos || equals == 0) {
-      throw InputError(fmt::format("command line: --param '{}': expected key=value", param));
+  for (const auto& [key, values] : params_from_flags(args, grid)) {
+    if (values.size() != 1) {
+      throw InputError(fmt::format(
+          "command line: calibrate takes one value per --param; '{}' has {}", key, values.size()));
     }
-    if (!params.emplace(param.substr(0, equals), param.substr(equals + 1)).second) {
-      throw InputError(
-          fmt::format("command line: --param '{}' is given twice", param.substr(0, equals)));
-    }
+    params[key] = values.front();
   }
   return params;
 }
@@ -480,7 +481,7 @@ int calibrate_command_line(const CalibrateArguments& calibration, const RunArgum
     TileCalibrationOptions options;
     options.scenes = calibration.integrands;
     if (!calibration.estimators.empty()) options.estimators = calibration.estimators;
-    options.params = calibrate_params(calibration.params);
+    options.params = calibrate_params(args, options.estimators, options.scenes);
     if (calibration.samples > 0) options.samples = calibration.samples;
     if (calibration.replicates > 0) options.replicates = calibration.replicates;
     if (calibration.seeds > 0) options.seeds = calibration.seeds;
@@ -491,7 +492,7 @@ int calibrate_command_line(const CalibrateArguments& calibration, const RunArgum
   CalibrationOptions options;
   if (!calibration.integrands.empty()) options.integrand = calibration.integrands.front();
   if (!calibration.estimators.empty()) options.estimators = calibration.estimators;
-  options.params = calibrate_params(calibration.params);
+  options.params = calibrate_params(args, options.estimators, {options.integrand});
   if (calibration.samples > 0) options.samples = calibration.samples;
   if (calibration.replicates > 0) options.replicates = calibration.replicates;
   if (calibration.seeds > 0) options.seeds = calibration.seeds;
