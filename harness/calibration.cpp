@@ -4,9 +4,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
-#include <boost/math/distributions/non_central_t.hpp>
 #include <boost/math/distributions/normal.hpp>
-#include <boost/math/distributions/students_t.hpp>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -78,15 +76,6 @@ void test_row(CalibrationRow& row, const CalibrationOptions& options) {
       binomial_test_p_value(row.false_alarms, row.p_values.size(), options.test_alpha);
   row.pass =
       row.ks.p_value >= options.pass_threshold && row.binomial_p_value >= options.pass_threshold;
-}
-
-// P(|T| > t_{1-α/2, dof}) for T noncentral t with noncentrality `ncp`.
-double noncentral_t_power(double ncp, double dof, double alpha) {
-  const double critical = boost::math::quantile(boost::math::students_t(dof), 1.0 - alpha / 2.0);
-  if (ncp == 0.0) return alpha;
-  const boost::math::non_central_t distribution(dof, std::fabs(ncp));
-  return boost::math::cdf(boost::math::complement(distribution, critical)) +
-         boost::math::cdf(distribution, -critical);
 }
 
 double normal_power(double ncp, double alpha) {

@@ -23,6 +23,7 @@
 #include "harness/replay.h"
 #include "harness/session.h"
 #include "harness/suite_file.h"
+#include "harness/tile_calibration.h"
 #include "results/context.h"
 
 namespace pcbench {
@@ -443,6 +444,100 @@ int replay_command_line(const RunArguments& args, const ReplayRequest& request, 
                     request.json, out);
 }
 
+// `pcbench calibrate`: of the run test on an analytic integrand (harness/calibration.h), of the
+// tile test on scenes (harness/tile_calibration.h). Unset options take each one's defaults;
+// --param, the seed, threads and output go to the RunArguments that `run` uses.
+struct CalibrateArguments {
+  std::vector<std::string> estimators;
+  std::vector<std::string> integrands;
+  std::uint64_t samples = 0;
+  std::uint32_t replicates = 0;
+  std::uint32_t seeds = 0;
+};
+
+void add_calibrate_options(CLI::App* app, CalibrateArguments& calibration, RunArguments& args) {
+  app->add_option("--estimator,-e", calibration.estimators,
+                  "unbiased estimators to calibrate (default plain,vc-all,lvc,pcbpt; on scenes "
+                  "pt,plain)")
+      ->delimiter(',');
+  app->add_option("--integrand,-i", calibration.integrands,
+                  "integrand with an exact reference (default genz-gaussian), or scenes: the tile "
+                  "test against the exact image (furnace) and between estimators (others)")
+      ->delimiter(',');
+  app->add_option("--param,-p", args.params,
+                  "key=value for the estimators and the integrand (resolution, ...), repeatable");
+  app->add_option("--samples,-n", calibration.samples,
+                  "samples per replicate (default 1000; on scenes samples per pixel, 4)")
+      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
+  app->add_option("--replicates,-r", calibration.replicates,
+                  "replicates per run (default 16; on scenes 8 images)")
+      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
+  app->add_option("--seeds", calibration.seeds,
+                  "seeds (runs) per estimator (default 200; on scenes 1000)")
+      ->check(CLI::Range(std::uint32_t{20}, std::uint32_t{1000000}));
+  add_seed_and_threads_options(app, args);
+  app->add_option("--out,-o", args.out_dir, "output folder (default results/runs/<date-time>/)");
+  app->add_flag("--quiet,-q", args.quiet, "no table");
+}
+
+// The calibration's parameters, parsed as `run` parses them but one value per key: a
+// calibration is of one configuration (a grid would be several calibrations).
+ParamText calibrate_params(const RunArguments& args, const std::vector<std::string>& estimators,
+                           const std::vector<std::string>& integrands) {
+  GridRequest grid{.estimators = estimators, .integrands = integrands};
+  ParamText params;
+  for (const auto& [key, values] : params_from_flags(args, grid)) {
+    if (values.size() != 1) {
+      throw InputError(fmt::format(
+          "command line: calibrate takes one value per --param; '{}' has {}", key, values.size()));
+    }
+    params[key] = values.front();
+  }
+  return params;
+}
+
+int calibrate_command_line(const CalibrateArguments& calibration, const RunArguments& args,
+                           const CLI::App& app, const std::vector<std::string>& argv,
+                           std::ostream& out, std::ostream& err,
+                           const std::atomic<bool>* interrupted) {
+  const std::size_t scenes = static_cast<std::size_t>(
+      std::count_if(calibration.integrands.begin(), calibration.integrands.end(), is_scene_name));
+  if (scenes > 0 && scenes < calibration.integrands.size()) {
+    throw InputError(
+        "command line: calibrate takes scenes (the tile test) or one analytic integrand (the run "
+        "test), not both");
+  }
+  if (scenes == 0 && calibration.integrands.size() > 1) {
+    throw InputError("command line: calibrate takes one analytic integrand");
+  }
+  const bool given_seed = app.count("--seed") > 0;
+  prepare_out_dir(args.out_dir, app.count("--out") > 0);
+  const SessionOptions session = session_options(args, argv, interrupted);
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
+  if (scenes > 0) {
+    TileCalibrationOptions options;
+    options.scenes = calibration.integrands;
+    if (!calibration.estimators.empty()) options.estimators = calibration.estimators;
+    options.params = calibrate_params(args, options.estimators, options.scenes);
+    if (calibration.samples > 0) options.samples = calibration.samples;
+    if (calibration.replicates > 0) options.replicates = calibration.replicates;
+    if (calibration.seeds > 0) options.seeds = calibration.seeds;
+    if (given_seed) options.first_seed = args.seed;
+    options.interrupted = interrupted;
+    return run_tile_calibration(options, session, out, err);
+  }
+  CalibrationOptions options;
+  if (!calibration.integrands.empty()) options.integrand = calibration.integrands.front();
+  if (!calibration.estimators.empty()) options.estimators = calibration.estimators;
+  options.params = calibrate_params(args, options.estimators, {options.integrand});
+  if (calibration.samples > 0) options.samples = calibration.samples;
+  if (calibration.replicates > 0) options.replicates = calibration.replicates;
+  if (calibration.seeds > 0) options.seeds = calibration.seeds;
+  if (given_seed) options.first_seed = args.seed;
+  options.interrupted = interrupted;
+  return run_calibration(options, session, out, err);
+}
+
 }  // namespace
 
 int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
@@ -500,26 +595,14 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   verify->add_option("--expect", verify_args.images.expect,
                      "with --images: consistent (default) or biased (a set with a known bias)");
 
-  CalibrationOptions calibration;
+  CalibrateArguments calibration;
   RunArguments calibrate_args;
   CLI::App* calibrate_app = app.add_subcommand(
       "calibrate",
       "the verifier's self-test: p-values of unbiased estimators over many seeds are uniform, "
-      "false alarms match alpha, and the power curve follows its prediction");
-  calibrate_app
-      ->add_option("--estimator,-e", calibration.estimators, "unbiased estimators to calibrate")
-      ->delimiter(',');
-  calibrate_app->add_option("--integrand,-i", calibration.integrand, "integrand (exact reference)");
-  calibrate_app->add_option("--samples,-n", calibration.samples, "samples per replicate")
-      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
-  calibrate_app->add_option("--replicates,-r", calibration.replicates, "replicates per run")
-      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
-  calibrate_app->add_option("--seeds", calibration.seeds, "seeds (runs) per estimator")
-      ->check(CLI::Range(std::uint32_t{20}, std::uint32_t{1000000}));
-  calibrate_app->add_option("--seed,-s", calibration.first_seed, "first seed");
-  calibrate_app->add_option("--out,-o", calibrate_args.out_dir,
-                            "output folder (default results/runs/<date-time>/)");
-  calibrate_app->add_flag("--quiet,-q", calibrate_args.quiet, "no table");
+      "false alarms match alpha, and the power curve follows its prediction (on scenes: of the "
+      "tile test)");
+  add_calibrate_options(calibrate_app, calibration, calibrate_args);
 
   std::vector<std::string> compare_reports_paths;
   RunArguments compare_args;
@@ -587,10 +670,8 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     }
     if (verify->parsed()) return run_command(verify_args, *verify, argv, out, err, interrupted);
     if (calibrate_app->parsed()) {
-      prepare_out_dir(calibrate_args.out_dir, calibrate_app->count("--out") > 0);
-      calibration.interrupted = interrupted;
-      return run_calibration(calibration, session_options(calibrate_args, argv, interrupted), out,
-                             err);
+      return calibrate_command_line(calibration, calibrate_args, *calibrate_app, argv, out, err,
+                                    interrupted);
     }
     if (plot->parsed()) return run_plot_command(plot_report, plot_out, out, err);
     if (compare->parsed()) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 namespace pcbench {
 namespace {
@@ -325,16 +326,24 @@ KsResult ks_uniform(std::vector<double> values) {
 // ---------------------------------------------------------------------------------------------
 // Binomial
 
-double binomial_test_p_value(std::uint64_t successes, std::uint64_t trials, double p) {
+namespace {
+
+void check_binomial(std::uint64_t successes, std::uint64_t trials, double p, const char* who) {
   if (successes > trials) {
-    throw std::invalid_argument("binomial_test_p_value: more successes than trials");
+    throw std::invalid_argument(std::string(who) + ": more successes than trials");
   }
   if (trials > (std::uint64_t{1} << 53)) {
-    throw std::invalid_argument("binomial_test_p_value: more than 2^53 trials");
+    throw std::invalid_argument(std::string(who) + ": more than 2^53 trials");
   }
   if (!(p >= 0.0 && p <= 1.0)) {
-    throw std::invalid_argument("binomial_test_p_value: p is not in [0, 1]");
+    throw std::invalid_argument(std::string(who) + ": p is not in [0, 1]");
   }
+}
+
+}  // namespace
+
+double binomial_test_p_value(std::uint64_t successes, std::uint64_t trials, double p) {
+  check_binomial(successes, trials, p, "binomial_test_p_value");
   if (trials == 0) return 1.0;
   // Degenerate distributions: the observed outcome is either the only possible one or impossible.
   if (p == 0.0) return successes == 0 ? 1.0 : 0.0;
@@ -381,6 +390,15 @@ double binomial_test_p_value(std::uint64_t successes, std::uint64_t trials, doub
   }
   const double lower = lo > 0 ? boost::math::cdf(dist, static_cast<double>(lo - 1)) : 0.0;
   return std::min(1.0, lower + boost::math::cdf(boost::math::complement(dist, x - 1.0)));
+}
+
+double binomial_upper_p_value(std::uint64_t successes, std::uint64_t trials, double p) {
+  check_binomial(successes, trials, p, "binomial_upper_p_value");
+  if (successes == 0) return 1.0;
+  if (p == 0.0) return 0.0;
+  if (p == 1.0) return 1.0;
+  const boost::math::binomial_distribution<double> dist(static_cast<double>(trials), p);
+  return boost::math::cdf(boost::math::complement(dist, static_cast<double>(successes - 1)));
 }
 
 }  // namespace pcbench

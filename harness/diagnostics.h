@@ -93,4 +93,10 @@ double ks_p_value(double d, std::uint64_t n);
 // exact as a double) or p is not in [0, 1].
 double binomial_test_p_value(std::uint64_t successes, std::uint64_t trials, double p);
 
+// One-sided: P(X >= successes) for X ~ Binomial(trials, p), the p-value of "more successes than
+// p allows" (1 for 0 successes). Where fewer successes than p are expected by design (a
+// conservative test's false alarms), only this side is a failure. Throws as
+// binomial_test_p_value does.
+double binomial_upper_p_value(std::uint64_t successes, std::uint64_t trials, double p);
+
 }  // namespace pcbench

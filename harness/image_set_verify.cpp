@@ -12,6 +12,7 @@
 #include "harness/image_statistics.h"
 #include "harness/report_compare.h"
 #include "harness/scene_verification.h"
+#include "harness/tile_checks.h"
 #include "results/exr_file.h"
 #include "results/report.h"
 

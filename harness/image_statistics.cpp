@@ -310,27 +310,6 @@ TileTestResult test_tiles_against_reference(std::span<const Image> a, const Imag
   return tiles_against(a, reference, variance, alpha, options);
 }
 
-std::vector<Image> with_tile_bias(std::vector<Image> images, const TileTest& tile,
-                                  std::uint32_t size, double bias) {
-  for (Image& image : images) {
-    for (std::uint32_t y = tile.tile_y * size; y < std::min(image.height, (tile.tile_y + 1) * size);
-         ++y) {
-      for (std::uint32_t x = tile.tile_x * size;
-           x < std::min(image.width, (tile.tile_x + 1) * size); ++x) {
-        image.at(x, y, tile.channel) += bias;
-      }
-    }
-  }
-  return images;
-}
-
-const TileTest& brightest_tile(const TileTestResult& result) {
-  if (result.tiles.empty()) throw std::invalid_argument("no tiles");
-  return *std::max_element(
-      result.tiles.begin(), result.tiles.end(),
-      [](const TileTest& x, const TileTest& y) { return x.mean_a < y.mean_a; });
-}
-
 PixelTestSummary summarize_z(const Image& z, std::span<const Image> a, std::span<const Image> b) {
   check_image(z, z);
   check_replicates(a, &z);

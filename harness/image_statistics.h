@@ -117,14 +117,6 @@ TileTestResult test_tiles_against_reference(std::span<const Image> a, const Imag
                                             const Image& reference_stderr, double alpha,
                                             const TileOptions& options = {});
 
-// Adds `bias` to the tile's channel in every pixel of every image (tiles of `size` pixels).
-std::vector<Image> with_tile_bias(std::vector<Image> images, const TileTest& tile,
-                                  std::uint32_t size, double bias);
-
-// The tile and channel with the largest mean of a: where the self-check (and the calibration of
-// the tile test) injects a bias. `result` must hold tiles.
-const TileTest& brightest_tile(const TileTestResult& result);
-
 // Pixel-level guards, as in the verification of analytic runs. `b` holds the other estimator's
 // replicates, or just the exact image.
 struct PixelTestSummary {

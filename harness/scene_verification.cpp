@@ -11,6 +11,7 @@
 #include "harness/image_errors.h"
 #include "harness/image_statistics.h"
 #include "harness/strategy_image_file.h"
+#include "harness/tile_checks.h"
 #include "integrands/scenes/scene_integrand.h"
 #include "results/exr_file.h"
 
@@ -33,12 +34,6 @@ bool same_scene(const RunRecord& a, const RunRecord& b) {
 
 bool samples_all_paths(const RunRecord& r, const scene::Scene& s) {
   return scene::samples_all_paths(r.plan->render->method, s);
-}
-
-Image constant_image(const scene::Scene& s, const scene::Rgb& value) {
-  Image image(s.description().width, s.description().height);
-  for (std::size_t i = 0; i < image.values.size(); ++i) image.values[i] = value[i % 3];
-  return image;
 }
 
 }  // namespace
@@ -161,8 +156,8 @@ std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
     const RunRecord& a = *p.a;
     const SceneIntegrand& scene = *scene_of(a);
     if (p.b == nullptr) {
-      const TileTestResult t = test_tiles_against_exact(
-          a.result.images, constant_image(scene.scene(), *scene.exact_radiance()), alpha, options);
+      const TileTestResult t =
+          test_tiles_against_exact(a.result.images, *exact_image(scene), alpha, options);
       const std::string expect = a.plan->estimator->biased ? "biased" : "consistent";
       out.emplace_back(tile_comparison(a, "exact", "exact", t, expect), tile_verdict(t, expect));
       continue;
@@ -272,13 +267,8 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder,
 
     // The pixel test: against the exact image, or else the best other honest run of this
     // session (never the cache: verification trusts no stored image).
-    std::optional<Image> exact;
-    const RunRecord* other = nullptr;
-    if (scene->exact_radiance()) {
-      exact = constant_image(scene->scene(), *scene->exact_radiance());
-    } else {
-      other = best_other(converged[r.plan->integrand], &r);
-    }
+    const std::optional<Image> exact = exact_image(*scene);
+    const RunRecord* other = exact ? nullptr : best_other(converged[r.plan->integrand], &r);
     if (exact || other) {
       const Image z = other ? z_map(s, stats.at(other)) : z_map(s, *exact);
       const PixelTestSummary pixels =

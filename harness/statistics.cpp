@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/non_central_t.hpp>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
@@ -108,6 +109,21 @@ std::vector<double> holm_adjusted(std::span<const double> p_values) {
 
 double detectable_multiplier(double share, double dof, double power) {
   return t_quantile(1.0 - share / 2.0, dof) + t_quantile(power, dof);
+}
+
+double noncentral_t_power(double ncp, double dof, double share) {
+  const double critical = t_quantile(1.0 - share / 2.0, dof);
+  if (ncp == 0.0) return share;
+  const boost::math::non_central_t distribution(dof, std::fabs(ncp));
+  return boost::math::cdf(boost::math::complement(distribution, critical)) +
+         boost::math::cdf(distribution, -critical);
+}
+
+double shifted_t_power(double shift, double dof, double share) {
+  const double critical = t_quantile(1.0 - share / 2.0, dof);
+  const boost::math::students_t t(dof);
+  return boost::math::cdf(boost::math::complement(t, critical - shift)) +
+         boost::math::cdf(t, -critical - shift);
 }
 
 std::vector<SeriesPoint> convergence_series(const std::vector<ReplicateResult>& replicates,

@@ -177,4 +177,16 @@ std::vector<double> holm_adjusted(std::span<const double> p_values);
 // with Student quantiles).
 double detectable_multiplier(double share, double dof, double power = kPower);
 
+// Power of the two-sided t test at level `share` (critical value c = t_{1-share/2, dof}) against
+// a bias of `ncp` true standard errors: P(|T'| > c) for T' noncentral t with `dof` and
+// noncentrality ncp. Exact for normal replicate estimates and a fixed bias.
+double noncentral_t_power(double ncp, double dof, double share);
+
+// The same test when the bias is `shift` *estimated* standard errors of the very sample tested
+// (as a bias of k × that sample's reported minimum detectable bias is): the statistic is then
+// the unbiased one plus exactly `shift`, so the power is P(T > c - shift) + P(T < -c - shift) for
+// T Student's t with `dof`. At shift = detectable_multiplier(share, dof, power) it is `power`
+// (less the far tail's ~0), which is what the minimum detectable bias promises.
+double shifted_t_power(double shift, double dof, double share);
+
 }  // namespace pcbench

@@ -294,6 +294,7 @@ std::string report_json(const Context& context, const std::string& suite_name,
     report["exact_checks"] = checks;
   }
   if (sections.calibration) report["calibration"] = *sections.calibration;
+  if (sections.tile_calibration) report["tile_calibration"] = *sections.tile_calibration;
   if (!sections.external.empty()) report["external"] = sections.external;
   if (sections.image_sets) report["image_sets"] = *sections.image_sets;
   if (!sections.efficiency_ratios.empty()) {

@@ -54,6 +54,8 @@ struct ReportSections {
   nlohmann::json comparisons = nlohmann::json::array();  // already in the schema's form
   std::vector<ExactRecord> exact_checks = {};
   std::optional<nlohmann::json> calibration = {};
+  // `pcbench calibrate` on scenes (harness/tile_calibration.h).
+  std::optional<nlohmann::json> tile_calibration = {};
   nlohmann::json external = nlohmann::json::array();  // verify --estimates, in the schema's form
   nlohmann::json efficiency_ratios = nlohmann::json::array();  // harness/interleaved_runs.h
   std::optional<nlohmann::json> image_sets = {};  // verify --images, in the schema's form

@@ -471,5 +471,35 @@ TEST(DiagnosticsBinomial, DegenerateAndBadInput) {
   EXPECT_THROW(binomial_test_p_value(1, (std::uint64_t{1} << 53) + 1, 0.5), std::invalid_argument);
 }
 
+// P(X >= x): against the sum of the pmf, and the edge cases.
+TEST(DiagnosticsBinomial, UpperTail) {
+  // 0.95^20 = P(X = 0) at n = 20, p = 0.05, so P(X >= 1) = 1 - 0.95^20.
+  EXPECT_NEAR(binomial_upper_p_value(1, 20, 0.05), 1.0 - std::pow(0.95, 20), 1e-14);
+  // 8 of 10 at 1/2: (45 + 10 + 1) / 1024.
+  EXPECT_NEAR(binomial_upper_p_value(8, 10, 0.5), 56.0 / 1024.0, 1e-15);
+  EXPECT_NEAR(binomial_upper_p_value(10, 10, 0.5), 1.0 / 1024.0, 1e-17);
+  for (const std::uint64_t n : {1, 7, 100}) {
+    for (const double p : {0.05, 0.5, 0.9}) {
+      for (std::uint64_t x = 0; x <= n; ++x) {
+        long double sum = 0.0L;
+        for (std::uint64_t i = x; i <= n; ++i) {
+          sum += std::exp(static_cast<long double>(
+              std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) +
+              static_cast<double>(i) * std::log(p) + static_cast<double>(n - i) * std::log1p(-p)));
+        }
+        const double expected = std::min(1.0, static_cast<double>(sum));
+        EXPECT_NEAR(binomial_upper_p_value(x, n, p), expected, 1e-12 + 1e-9 * expected)
+            << x << " of " << n << " at " << p;
+      }
+    }
+  }
+  EXPECT_EQ(binomial_upper_p_value(0, 10, 0.3), 1.0);
+  EXPECT_EQ(binomial_upper_p_value(0, 0, 0.3), 1.0);
+  EXPECT_EQ(binomial_upper_p_value(1, 10, 0.0), 0.0);
+  EXPECT_EQ(binomial_upper_p_value(10, 10, 1.0), 1.0);
+  EXPECT_THROW(binomial_upper_p_value(11, 10, 0.5), std::invalid_argument);
+  EXPECT_THROW(binomial_upper_p_value(1, 10, kNaN), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace pcbench

@@ -15,6 +15,7 @@
 
 #include "harness/diagnostics.h"
 #include "harness/statistics.h"
+#include "harness/tile_checks.h"
 #include "results/exr_file.h"
 #include "test_support.h"
 

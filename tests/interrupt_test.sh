@@ -38,5 +38,17 @@ status=$?
 check "calibrate: exit status 130 (got $status)" test "$status" -eq 130
 check "calibrate: no report written" test ! -e cal/report.json
 check "calibrate: says so" grep -q "calibration interrupted" cal.err
-echo "$((7 - failed)) passed, $failed failed"
+
+# The same for the tile calibration (scenes): 1000 seeds of 64x64 images would take many minutes.
+"$binary" calibrate -i furnace,cornell -p resolution=64 --seeds 1000 -n 16 --out tiles --quiet \
+  2>tiles.err &
+pid=$!
+sleep 1
+kill -INT "$pid"
+wait "$pid"
+status=$?
+check "tile calibrate: exit status 130 (got $status)" test "$status" -eq 130
+check "tile calibrate: no report written" test ! -e tiles/report.json
+check "tile calibrate: says so" grep -q "calibration interrupted" tiles.err
+echo "$((10 - failed)) passed, $failed failed"
 [ "$failed" -eq 0 ]

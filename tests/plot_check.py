@@ -3,8 +3,9 @@
     plot_check.py PCBENCH SOURCE_DIR
 
 Reports: analytic runs with a negative control (series, efficiency and its ratios, tests), scenes (images with
-exact and run references), a calibration (power curve measured), and the analytic report with
-its optional sections (series, images, comparisons, diagnostics) removed. For each: the figures
+exact and run references), a calibration (power curve measured), a tile calibration (power and
+false alarms of the scene tile test), and the analytic report with its optional sections (series,
+images, comparisons, diagnostics) removed. For each: the figures
 the report calls for exist as PNG files, index.html passes tests/page_check.py in headless
 Chromium (no console error, every image decodes, the table matches the report), and bad input
 exits 2 without writing.
@@ -76,6 +77,12 @@ def main():
         run([pcbench, "calibrate", "--seeds", "20", "-n", "500", "--out", calibration, "-q"])
         check_plotted(pcbench, os.path.join(calibration, "report.json"),
                       ["verification.png", "calibration_qq.png"], "calibration")
+
+        tiles = os.path.join(scratch, "tile-calibration")
+        run([pcbench, "calibrate", "-i", "furnace,cornell", "-p", "resolution=16", "--seeds", "20",
+             "-n", "1", "-r", "4", "--out", tiles, "-q"])
+        check_plotted(pcbench, os.path.join(tiles, "report.json"), ["tile_calibration.png"],
+                      "tile calibration")
 
         # The same analytic report without any optional section still plots.
         bare = os.path.join(scratch, "bare")

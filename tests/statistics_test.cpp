@@ -397,6 +397,33 @@ TEST(StatisticsHolm, MinimumDetectableBiasScalesWithTheStandardError) {
   EXPECT_GT(small.min_detectable_bias, 2.80158 + 1e-3);
 }
 
+// A bias of k × the sample's own detectable bias moves its statistic by k × the multiplier: at
+// k = 1 the test rejects with the promised power, whatever the dof; at k = 0 with the level.
+TEST(StatisticsPower, ShiftedTPowerAtTheDetectableBiasIsThePower) {
+  for (const double dof : {3.0, 7.0, 14.5, 1e6}) {
+    for (const double share : {0.05, 0.05 / 12.0, 1e-4}) {
+      const double m = detectable_multiplier(share, dof, 0.8);
+      // The far tail P(T < -c - m), below P(T < -c) = share / 2, is all that is added to 0.8.
+      EXPECT_GE(shifted_t_power(m, dof, share), 0.8 - 1e-12) << dof << " " << share;
+      EXPECT_LE(shifted_t_power(m, dof, share), 0.8 + share / 2.0) << dof << " " << share;
+      EXPECT_NEAR(shifted_t_power(0.0, dof, share), share, 1e-9 * share);
+      EXPECT_LT(shifted_t_power(0.5 * m, dof, share), 0.8);
+      EXPECT_GT(shifted_t_power(2.0 * m, dof, share), 0.8);
+    }
+  }
+  // Large dof: the normal Φ(m - z) + Φ(-m - z) with m = z_{0.975} + z_{0.8}: 0.8 + Φ(-4.76).
+  EXPECT_NEAR(shifted_t_power(1.95996398 + 0.84162123, 1e9, 0.05), 0.8 + 9.6e-7, 1e-7);
+}
+
+// The noncentral t power: α at no bias; at large dof the normal formula Φ(δ - z) + Φ(-δ - z).
+TEST(StatisticsPower, NoncentralTPower) {
+  EXPECT_EQ(noncentral_t_power(0.0, 7.0, 0.05), 0.05);
+  EXPECT_NEAR(noncentral_t_power(1.95996398 + 0.84162123, 1e7, 0.05), 0.8 + 9.6e-7, 1e-6);
+  // Fewer dof: a heavier null tail pushes the critical value out, so less power.
+  EXPECT_LT(noncentral_t_power(3.0, 7.0, 0.05), noncentral_t_power(3.0, 70.0, 0.05));
+  EXPECT_NEAR(noncentral_t_power(-3.0, 7.0, 0.05), noncentral_t_power(3.0, 7.0, 0.05), 1e-15);
+}
+
 TEST(StatisticsHolm, MinimumDetectableRelativeBiasIsUndefinedForAZeroReference) {
   Verdict v = tested_with_p(0.5);
   v.reference_value = 0.0;

@@ -342,6 +342,9 @@ def main():
                            os.path.join(tmp, "d-cli-grid", "report.json")], 0, False),
             ("l-calibrate", ["calibrate", "-e", "plain", "--seeds", "50", "-n", "200", "-r", "4"],
              0, False),
+            # The tile test's calibration on scenes: a `tile_calibration` section, no runs.
+            ("l-tile-calibrate", ["calibrate", "-i", "furnace,cornell", "-p", "resolution=16",
+                                  "--seeds", "20", "-n", "1", "-r", "4"], 0, False),
             # Scenes: image sections (with the per-strategy images), tracing counters, tile
             # comparisons (against the exact furnace, between estimators, the injected
             # self-check) and a flagged control.
@@ -380,6 +383,21 @@ def main():
             reports[name] = report
 
     # --- per-case expectations -----------------------------------------------------------------
+    tiles = reports.get("l-tile-calibrate")
+    if tiles:
+        section = tiles["tile_calibration"]
+        check(tiles["suite"] == "tile calibration" and tiles["runs"] == []
+              and "calibration" not in tiles,
+              "l-tile-calibrate: a tile_calibration section and no runs")
+        check([(r["scene"], r["estimator_a"], r["estimator_b"]) for r in section["rows"]]
+              == [("furnace", "pt", "exact"), ("furnace", "plain", "exact"),
+                  ("cornell", "pt", "plain")]
+              and all(len(r["min_p_adjusted"]) == 20 for r in section["rows"]),
+              "l-tile-calibrate: furnace against its exact image, cornell pt vs plain, 20 seeds")
+        curves = section["power_curves"]
+        check([c["tile_rule"] for c in curves] == ["brightest", "centre"]
+              and all([p["multiplier"] for p in c["points"]] == [0.5, 1, 2] for c in curves),
+              "l-tile-calibrate: power curves in the brightest and the centre tile at k = 0.5, 1, 2")
     cached = reports.get("n-scene-cached")
     if cached:
         images = [run["image"] for run in cached["runs"]]

@@ -23,6 +23,7 @@ try:
     from figure_style import EstimatorColours  # noqa: E402
     from html_page import page  # noqa: E402
     from image_figures import scene_figure  # noqa: E402
+    from tile_calibration_figures import tile_calibration_figure  # noqa: E402
     from verification_figures import (calibration_qq_figure, has_tests,  # noqa: E402
                                       verification_figure)
 except ImportError as missing:
@@ -48,6 +49,11 @@ def make_sections(report, report_dir, out_dir):
                                      os.path.join(out_dir, "calibration_qq.png"))
         if path:
             tests.append((path, "calibration p-values per estimator"))
+    if report.get("tile_calibration"):
+        tests.append((tile_calibration_figure(report["tile_calibration"],
+                                              os.path.join(out_dir, "tile_calibration.png")),
+                      "tile test calibration: detection rate against k × the MDB, with the "
+                      "predicted power; false-alarm rates against α"))
     sections.append(("Verification", tests))
 
     analytic = [r for r in runs if not report_view.is_scene(r)]

@@ -1,0 +1,287 @@
+#include "harness/tile_calibration.h"
+
+#include <gtest/gtest.h>
+#include <oneapi/tbb/global_control.h>
+
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "harness/calibration.h"
+#include "harness/errors.h"
+#include "tests/test_support.h"
+
+namespace pcbench {
+namespace {
+
+// The short form (CI): 16×16 images (4 tiles × 3 channels = 12 tests per comparison) of the
+// furnace against its exact image and of cornell between pt and plain, 8 replicates × 2 spp,
+// 100 seeds.
+TileCalibrationOptions short_options() {
+  TileCalibrationOptions options;
+  options.params = {{"resolution", "16"}};
+  options.samples = 2;
+  options.replicates = 8;
+  options.seeds = 100;
+  options.first_seed = 1;
+  return options;
+}
+
+const TilePowerPoint& point_at(const TilePowerCurve& curve, double k) {
+  for (const TilePowerPoint& p : curve.points) {
+    if (p.multiplier == k) return p;
+  }
+  throw std::logic_error("no point at that k");
+}
+
+// Checks of a calibration of honest estimators; shared by the CI and the full test. Error
+// budget at a random seed (the seeds are fixed, so the tests are deterministic):
+//  - every size row passes at the calibration's own threshold 1e-3 (2 tests per row);
+//  - the centre tile (chosen before the sample is seen): per k, the prediction of the injected
+//    tile's own test inside the 99.9% Wilson interval of its measured rate, for k × the own MDB
+//    and for the fixed δ: 1e-3 each;
+//  - the brightest tile (the self-check's rule, chosen on the sample tested): the measured rate
+//    not below the prediction (its 99.9% Wilson upper end >= the prediction: 1e-3 each). It is
+//    above it: the largest tile mean of a favours tiles whose noise in a is positive, so the
+//    unbiased statistic there is not centred (mean_statistic ~0.4) and a positive bias is found
+//    more often than the MDB promises (README, Calibration);
+//  - at k = 2 both curves detect in at least 90% of the seeds (predicted > 0.99: with 100 seeds,
+//    10 misses or more have probability < 1e-4 each);
+//  - a detection is the family's, so never rarer than the tile's own.
+// With 3 rows and 2 curves × 3 points that is 6 + 12 tests at 1e-3 and 2 at 1e-4: a correct
+// tile test fails here with probability <= 1.9%.
+void expect_calibrated(const TileCalibrationResult& result) {
+  for (const TileSizeRow& row : result.rows) {
+    const std::string name = row.scene + " " + row.estimator_a + " vs " + row.estimator_b;
+    EXPECT_FALSE(row.biased) << name;
+    EXPECT_GE(row.binomial_upper_p_value, 1e-3) << name << ": " << row.false_alarms << " alarms";
+    EXPECT_GE(row.fixed_tile_ks.p_value, 1e-3) << name;
+    EXPECT_TRUE(row.pass) << name;
+    EXPECT_EQ(row.seeds, result.options.seeds);
+  }
+  EXPECT_TRUE(result.pass);
+  ASSERT_EQ(result.power.size(), 2u);
+  for (const TilePowerCurve& curve : result.power) {
+    ASSERT_EQ(curve.points.size(), 3u);
+    const bool centre = curve.tile_rule == "centre";
+    for (const TilePowerPoint& p : curve.points) {
+      const std::string where = curve.tile_rule + ", k = " + std::to_string(p.multiplier);
+      const ProportionInterval own = wilson_interval(p.tile_detections, curve.seeds, 0.999);
+      const ProportionInterval fixed = wilson_interval(p.fixed_tile_detections, curve.seeds, 0.999);
+      EXPECT_LE(p.predicted_power, own.high) << where;
+      EXPECT_LE(p.fixed_predicted_power, fixed.high) << "fixed bias, " << where;
+      if (centre) {
+        EXPECT_GE(p.predicted_power, own.low) << where;
+        EXPECT_GE(p.fixed_predicted_power, fixed.low) << "fixed bias, " << where;
+      }
+      EXPECT_GE(p.detections, p.tile_detections);
+      EXPECT_GE(p.fixed_detections, p.fixed_tile_detections);
+    }
+    // At k = 1 the MDB's promise: the nominal power 0.8, predicted up to the far tail.
+    EXPECT_NEAR(point_at(curve, 1.0).predicted_power, 0.8, 1e-4) << curve.tile_rule;
+    EXPECT_GE(point_at(curve, 2.0).detection_rate, 0.9) << curve.tile_rule;
+    EXPECT_GT(point_at(curve, 2.0).predicted_power, 0.99) << curve.tile_rule;
+    EXPECT_LT(point_at(curve, 0.5).predicted_power, 0.5) << curve.tile_rule;
+  }
+  EXPECT_EQ(result.power[0].tile_rule, "brightest");
+  EXPECT_EQ(result.power[1].tile_rule, "centre");
+  EXPECT_EQ(result.power[1].injected_tiles.size(), 1u);
+}
+
+TEST(TileCalibration, ShortFormIsCalibrated) {
+  const TileCalibrationResult result = calibrate_tiles(short_options());
+  print_tile_calibration(result, std::cout);
+  std::cout << "calibrate_tiles() took " << result.wall_seconds << " s\n";
+  ASSERT_EQ(result.rows.size(), 3u);  // furnace: pt, plain against exact; cornell: pt vs plain
+  EXPECT_EQ(result.rows[0].estimator_b, "exact");
+  EXPECT_EQ(result.rows[1].estimator_b, "exact");
+  EXPECT_EQ(result.rows[2].scene, "cornell");
+  EXPECT_EQ(result.rows[2].tests, 12u);
+  EXPECT_NE(result.rows[2].run_a, result.rows[2].run_b);  // independent streams
+  expect_calibrated(result);
+}
+
+// The calibration can fail: the light vertex cache normalised by vertices instead of paths is
+// biased everywhere, so its comparisons reject in nearly every seed (the pass threshold would
+// allow at most ~14 of 100 at α = 0.05), and the honest row beside it still passes.
+TEST(TileCalibration, BiasedControlFails) {
+  TileCalibrationOptions options = short_options();
+  options.estimators = {"pt", "ctl-scene-lvc-per-vertex"};
+  options.seeds = 40;
+  options.bias_multipliers = {};
+  const TileCalibrationResult result = calibrate_tiles(options);
+  ASSERT_EQ(result.rows.size(), 3u);
+  const TileSizeRow& honest = result.rows[0];
+  EXPECT_EQ(honest.estimator_a, "pt");
+  EXPECT_FALSE(honest.biased);
+  EXPECT_TRUE(honest.pass);
+  for (const TileSizeRow* row : {&result.rows[1], &result.rows[2]}) {
+    EXPECT_TRUE(row->biased) << row->scene;
+    EXPECT_FALSE(row->pass) << row->scene;
+    EXPECT_LT(row->binomial_upper_p_value, 1e-6) << row->scene;
+    EXPECT_GT(row->false_alarms, row->seeds / 2) << row->scene;
+  }
+  EXPECT_FALSE(result.pass);
+  EXPECT_TRUE(result.power.empty());
+}
+
+TileCalibrationOptions tiny_options() {
+  TileCalibrationOptions options;
+  options.params = {{"resolution", "16"}};
+  options.samples = 1;
+  options.replicates = 4;
+  options.seeds = 8;
+  options.first_seed = 5;
+  return options;
+}
+
+nlohmann::ordered_json without_timing(nlohmann::ordered_json j) {
+  j.erase("wall_seconds");
+  return j;
+}
+
+// The same numbers for any thread count (seeds in parallel, each into its own slot); another
+// first seed gives other numbers, and seed s's numbers whatever the first seed.
+TEST(TileCalibration, DeterministicForAnyThreadCount) {
+  const TileCalibrationResult all = calibrate_tiles(tiny_options());
+  TileCalibrationResult one;
+  {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = calibrate_tiles(tiny_options());
+  }
+  EXPECT_EQ(without_timing(tile_calibration_json(all)).dump(),
+            without_timing(tile_calibration_json(one)).dump());
+  std::ostringstream text_all, text_one;
+  print_tile_calibration(all, text_all);
+  print_tile_calibration(one, text_one);
+  EXPECT_EQ(text_all.str(), text_one.str());
+
+  TileCalibrationOptions shifted = tiny_options();
+  shifted.first_seed = 6;
+  const TileCalibrationResult next = calibrate_tiles(shifted);
+  for (std::size_t r = 0; r < all.rows.size(); ++r) {
+    const std::vector<double>& a = all.rows[r].min_p_adjusted;
+    const std::vector<double>& b = next.rows[r].min_p_adjusted;
+    EXPECT_EQ(std::vector<double>(a.begin() + 1, a.end()),
+              std::vector<double>(b.begin(), b.end() - 1));
+  }
+}
+
+nlohmann::json load_schema() {
+  std::ifstream in(std::string(PCBENCH_SOURCE_DIR) + "/results/report.schema.json");
+  return nlohmann::json::parse(in);
+}
+
+// Every field the schema requires is written, and every field written is documented there.
+void expect_fields_match(const nlohmann::ordered_json& object, const nlohmann::json& definition,
+                         const std::string& where) {
+  ASSERT_TRUE(object.is_object()) << where;
+  for (const auto& key : definition.at("required")) {
+    EXPECT_TRUE(object.contains(key.get<std::string>())) << where << ": missing " << key;
+  }
+  for (const auto& [key, value] : object.items()) {
+    EXPECT_TRUE(definition.at("properties").contains(key)) << where << ": undocumented " << key;
+  }
+}
+
+TEST(TileCalibration, JsonHasTheDocumentedFields) {
+  const TileCalibrationResult result = calibrate_tiles(tiny_options());
+  const nlohmann::ordered_json j = tile_calibration_json(result);
+  const nlohmann::json schema = load_schema();
+  const nlohmann::json& defs = schema.at("$defs");
+  ASSERT_TRUE(schema.at("properties").contains("tile_calibration"));
+  expect_fields_match(j, defs.at("tileCalibration"), "tile_calibration");
+  ASSERT_EQ(j.at("rows").size(), 3u);
+  for (const auto& row : j.at("rows")) {
+    expect_fields_match(row, defs.at("tileSizeRow"), "rows");
+    expect_fields_match(row.at("fixed_tile"),
+                        defs.at("tileSizeRow").at("properties").at("fixed_tile"), "fixed_tile");
+    EXPECT_EQ(row.at("min_p_adjusted").size(), 8u);
+  }
+  ASSERT_EQ(j.at("power_curves").size(), 2u);
+  const auto& curve = j.at("power_curves")[0];
+  expect_fields_match(curve, defs.at("tilePowerCurve"), "power_curves");
+  ASSERT_EQ(curve.at("points").size(), 3u);
+  const nlohmann::json& point = defs.at("tilePowerPoint");
+  for (const auto& p : curve.at("points")) {
+    expect_fields_match(p, point, "points");
+    expect_fields_match(p.at("own_mdb"), point.at("properties").at("own_mdb"), "own_mdb");
+    expect_fields_match(p.at("fixed_bias"), point.at("properties").at("fixed_bias"), "fixed_bias");
+  }
+  EXPECT_EQ(j.at("rows")[0].at("run_b"), "exact");
+  EXPECT_EQ(j.at("rows")[2].at("estimator_a"), "pt");
+  EXPECT_EQ(j.at("rows")[2].at("estimator_b"), "plain");
+  EXPECT_EQ(curve.at("estimator_a"), "pt");
+  EXPECT_EQ(curve.at("tile_rule"), "brightest");
+  EXPECT_EQ(j.at("power_curves")[1].at("tile_rule"), "centre");
+  EXPECT_EQ(j.at("first_seed"), 5);
+  EXPECT_EQ(j.at("pass"), result.pass);
+}
+
+TEST(TileCalibration, BadOptionsAreInputErrors) {
+  const auto fails = [](TileCalibrationOptions options) {
+    EXPECT_THROW(calibrate_tiles(options), InputError);
+  };
+  TileCalibrationOptions o = tiny_options();
+  o.scenes = {"genz-gaussian"};  // not a scene
+  fails(o);
+  o = tiny_options();
+  o.scenes = {"cornell", "cornell"};
+  fails(o);
+  o = tiny_options();
+  o.estimators = {"pt"};  // cornell is compared pairwise
+  fails(o);
+  // Light tracing cannot sample the paths through a mirror: comparing it there would differ
+  // without a fault in either estimator.
+  const TemporaryFolder folder;
+  write_text(folder.path() / "mirror.json", R"({
+    "camera": {"position": [0, 1, 3], "look_at": [0, 1, 0], "up": [0, 1, 0], "fov": 40},
+    "materials": {"white": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]},
+                  "glass": {"type": "mirror", "albedo": [0.9, 0.9, 0.9]}},
+    "shapes": [
+      {"type": "box", "min": [-2, 0, -2], "max": [2, 3, 4], "material": "white",
+       "normals": "inward"},
+      {"type": "quad", "corners": [[-1, 2.9, -1], [1, 2.9, -1], [1, 2.9, 1], [-1, 2.9, 1]],
+       "material": "white", "emission": [4, 4, 4]},
+      {"type": "triangle", "corners": [[-1, 0, -1.5], [1, 0, -1.5], [0, 2, -1.5]],
+       "material": "glass"}]
+  })");
+  o = tiny_options();
+  o.estimators = {"plain", "lt"};
+  o.scenes = {(folder.path() / "mirror.json").string()};
+  fails(o);
+  o = tiny_options();
+  o.bias_multipliers = {1.0, 0.0};
+  fails(o);
+  o = tiny_options();
+  o.replicates = 1;
+  fails(o);
+  o = tiny_options();
+  o.params = {{"nobody_reads_this", "1"}};
+  fails(o);
+  EXPECT_THROW(is_scene_name("no-such-scene"), InputError);
+  EXPECT_TRUE(is_scene_name("furnace"));
+  EXPECT_FALSE(is_scene_name("genz-gaussian"));
+  // The furnace alone needs one estimator only: it has an exact image.
+  o = tiny_options();
+  o.estimators = {"pt"};
+  o.scenes = {"furnace"};
+  o.seeds = 2;
+  const TileCalibrationResult furnace = calibrate_tiles(o);
+  EXPECT_EQ(furnace.rows.size(), 1u);
+  EXPECT_TRUE(furnace.power.empty());
+}
+
+// The full form: the defaults (32×32, 4 spp × 8 replicates, 1000 seeds). Same checks and error
+// budget as the short form. Prints the tables quoted in the README.
+TEST(TileCalibrationFull, DefaultOptions) {
+  const TileCalibrationResult result = calibrate_tiles({});
+  print_tile_calibration(result, std::cout);
+  std::cout << "calibrate_tiles() took " << result.wall_seconds << " s\n";
+  expect_calibrated(result);
+}
+
+}  // namespace
+}  // namespace pcbench
