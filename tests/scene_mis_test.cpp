@@ -2,17 +2,18 @@
 // z_0 .. z_k (z_0 at the camera, z_k on an emitter) taken from real subpaths:
 //   - mis_weight gives strategy (s, t), s + t = k + 1, the balance heuristic n_s p_s / Σ n p
 //     over the strategies of each scene estimator's StrategyCounts (every estimator of the
-//     registry that renders scenes, at its defaults; p: the product of the vertices' area
-//     densities as that strategy samples them), so the weights sum to 1;
+//     registry that renders scenes, at its defaults, and the example example-nee; p: the
+//     product of the vertices' area densities as that strategy samples them), so the weights
+//     sum to 1;
 //   - connect()'s unweighted value is the path's contribution f(z) divided by p_s;
 //   - the walks' bookkeeping (pdf_fwd, pdf_rev, beta) matches the path.
 // The densities and contributions here are computed from the vertex positions, apart from
 // path_vertex.cpp and connection.cpp. Last, every honest estimator renders the built-in furnace
 // to its exact radiance (SceneRenderFurnace), and the image does not depend on the thread count.
 //
-// Error budget: only SceneRenderFurnace is statistical: 6 estimators × 3 channels t tests, each
+// Error budget: only SceneRenderFurnace is statistical: 7 estimators × 3 channels t tests, each
 // asserting p > 1e-4, so a correct renderer fails by chance with probability at most
-// 18 × 1e-4 = 1.8e-3 (Bonferroni). The seeds are fixed.
+// 21 × 1e-4 = 2.1e-3 (Bonferroni). The seeds are fixed.
 
 #include <gtest/gtest.h>
 
@@ -28,6 +29,7 @@
 
 #include "estimators/registry.h"
 #include "estimators/scene/render_replicate.h"
+#include "examples/example_nee.h"
 #include "harness/rng.h"
 #include "harness/statistics.h"
 #include "integrands/scenes/bsdf.h"
@@ -299,8 +301,15 @@ struct NamedEstimator {
   std::shared_ptr<const SceneEstimator> estimator;
 };
 
+// The worked example of README "Adding a scene estimator" at its defaults (it is registered in
+// pcbench_examples only).
+NamedEstimator example_nee() {
+  const EstimatorEntry e = examples::example_nee_entry();
+  return {e.name, e.make_render(resolve_params(e.scene_params, {}, e.name))};
+}
+
 // Every scene estimator of the registry at its defaults (pool sizes and draw counts of a typical
-// run: they set StrategyCounts).
+// run: they set StrategyCounts), and the example (registered in pcbench_examples only).
 std::vector<NamedEstimator> every_estimator() {
   std::vector<NamedEstimator> out;
   for (const auto* table : {&estimator_registry(), &scene_estimator_registry()}) {
@@ -308,6 +317,7 @@ std::vector<NamedEstimator> every_estimator() {
       if (e.renders_scenes()) out.push_back({e.name, make_scene_estimator(e.name)});
     }
   }
+  out.push_back(example_nee());
   return out;
 }
 
@@ -318,7 +328,7 @@ std::vector<NamedEstimator> every_estimator() {
 // heuristic over the included strategies, and they sum to 1.
 void check_weights(const Scene& scene, const std::vector<FullPath>& paths) {
   const std::vector<NamedEstimator> estimators = every_estimator();
-  EXPECT_GE(estimators.size(), 8u);  // pt, lt, plain, vc-all, lvc, pcbpt, the two controls
+  EXPECT_GE(estimators.size(), 9u);  // pt, lt, plain, vc-all, lvc, pcbpt, two controls, example
   std::size_t checked = 0;
   for (std::size_t n = 0; n < paths.size(); ++n) {
     const FullPath& p = paths[n];
@@ -487,7 +497,8 @@ std::vector<NamedEstimator> render_configs() {
           {"bdpt", make_scene_estimator("plain")},
           {"vc", make_scene_estimator("vc-all", {{"M", "8"}})},
           {"lvc", make_scene_estimator("lvc", {{"M", "256"}, {"K", "4"}})},
-          {"pcbpt", make_scene_estimator("pcbpt", {{"M", "256"}, {"K", "4"}, {"tile", "4"}})}};
+          {"pcbpt", make_scene_estimator("pcbpt", {{"M", "256"}, {"K", "4"}, {"tile", "4"}})},
+          example_nee()};
 }
 
 TEST(SceneRenderFurnace, EveryMethodIsUnbiased) {
