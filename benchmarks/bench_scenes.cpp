@@ -2,10 +2,10 @@
 // subpath walks, one connection, and whole render iterations with their rays per second.
 //
 // The rays are BDPT's: one iteration of bdpt at 32×32 is replayed with the public walks and
-// connect() (the same streams as scene_render.cpp), and every closest-hit segment and every
-// shadow ray it traces is recorded, outside the timed loops. Walks that leave the scene have no
-// end point and are not recorded ("missed" counters say how many). The raw rate traces the same
-// rays through an RTCScene built here from the same float geometry as Scene's.
+// connect() (the same streams as integrands/scenes/render_services.cpp), and every closest-hit
+// segment and every shadow ray it traces is recorded, outside the timed loops. Walks that leave the
+// scene have no end point and are not recorded ("missed" counters say how many). The raw rate
+// traces the same rays through an RTCScene built here from the same float geometry as Scene's.
 //
 // The BDPT-vs-raw target: rays_per_second of BM_RenderIteration/bdpt against the weighted
 // harmonic mean of BM_EmbreeRawClosestHit and BM_EmbreeRawOcclusion on cornell, weighted by the
@@ -23,13 +23,14 @@
 #include <string>
 #include <vector>
 
+#include "estimators/registry.h"
+#include "estimators/scene/render_replicate.h"
 #include "harness/rng.h"
 #include "integrands/scenes/built_in_scenes.h"
 #include "integrands/scenes/connection.h"
 #include "integrands/scenes/embree_scene.h"
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/scene.h"
-#include "integrands/scenes/scene_render.h"
 
 namespace pcbench::scene {
 namespace {
@@ -77,13 +78,13 @@ void connect_recording(const Scene& scene, std::span<const PathVertex> light,
   }
 }
 
-// Replays iteration 0 of bdpt (scene_render.cpp's Renderer with Method::kBdpt).
+// Replays iteration 0 of bdpt (estimators/scene/plain.cpp through render_replicate).
 RecordedScene record_bdpt(const std::string& name) {
   RecordedScene r;
   r.scene = make_scene(name);
   const Scene& scene = *r.scene;
-  const RenderConfig config{.method = Method::kBdpt};
-  const StrategyCounts counts = strategy_counts(config, scene);
+  const auto bdpt = make_scene_estimator("plain");
+  const StrategyCounts counts = bdpt->strategy_counts(scene);
   const std::uint32_t w = scene.description().width, h = scene.description().height;
   const std::uint32_t max_length = scene.description().max_length;
   auto stream = [](StreamPurpose purpose, std::uint32_t path) {
@@ -121,7 +122,7 @@ RecordedScene record_bdpt(const std::string& name) {
     }
   }
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-  r.reference = render_replicate(scene, config, 1, 0, 1).counters;
+  r.reference = render_replicate(scene, *bdpt, 1, 0, 1).counters;
   return r;
 }
 
@@ -326,7 +327,7 @@ BENCHMARK(BM_LightSubpath);
 void BM_Connection(benchmark::State& state) {
   const auto scene = make_scene("cornell");
   const std::uint32_t max_length = scene->description().max_length;
-  const StrategyCounts counts = strategy_counts({.method = Method::kBdpt}, *scene);
+  const StrategyCounts counts = make_scene_estimator("plain")->strategy_counts(*scene);
   constexpr std::uint32_t kPairs = 256;
   std::vector<std::vector<PathVertex>> light(kPairs), camera(kPairs);
   struct Job {
@@ -366,13 +367,14 @@ BENCHMARK(BM_Connection);
 
 // One replicate of one iteration on cornell at 32×32, one thread. rays_per_second counts camera,
 // light and shadow rays; the per-iteration counts give the weights of the raw-rate comparison.
-void BM_RenderIteration(benchmark::State& state, RenderConfig config) {
+void BM_RenderIteration(benchmark::State& state, const std::string& estimator) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   const auto scene = make_scene("cornell");
+  const auto made = make_scene_estimator(estimator);
   TraceCounters counters;
   std::uint32_t replicate = 0;
   for (auto _ : state) {
-    const ReplicateImage out = render_replicate(*scene, config, 1, replicate++, 1);
+    const ReplicateImage out = render_replicate(*scene, *made, 1, replicate++, 1);
     counters.add(out.counters);
     benchmark::DoNotOptimize(out.image.values.data());
   }
@@ -383,13 +385,9 @@ void BM_RenderIteration(benchmark::State& state, RenderConfig config) {
   state.counters["closest_rays"] = benchmark::Counter(closest, benchmark::Counter::kAvgIterations);
   state.counters["shadow_rays"] = benchmark::Counter(shadow, benchmark::Counter::kAvgIterations);
 }
-BENCHMARK_CAPTURE(BM_RenderIteration, bdpt, RenderConfig{.method = Method::kBdpt})
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_RenderIteration, pt, RenderConfig{.method = Method::kPathTracing})
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_RenderIteration, pcbpt,
-                  RenderConfig{.method = Method::kProbabilistic, .light_paths = 1024})
-    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RenderIteration, bdpt, std::string("plain"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RenderIteration, pt, std::string("pt"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RenderIteration, pcbpt, std::string("pcbpt"))->Unit(benchmark::kMillisecond);
 
 // Registered before main() runs, next to bench_main.cpp's static registrations.
 [[maybe_unused]] const bool kRegistered = (register_ray_benchmarks(), true);

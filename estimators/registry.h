@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "estimators/estimator.h"
+#include "estimators/scene/scene_form.h"
 #include "harness/params.h"
-#include "integrands/scenes/scene_render.h"
 
 namespace pcbench {
 
@@ -37,11 +37,11 @@ struct EstimatorEntry {
   std::vector<ParamSpec> params;
   std::function<std::unique_ptr<Estimator>(const ResolvedParams&)> make;
   std::optional<DeclaredWorkload> declared = {};  // set for every negative control
-  // Scenes (estimators/scene_estimators.h): the parameters the estimator reads on a scene and
-  // its render configuration. Unset: the estimator works on analytic integrands only; `make`
-  // unset: on scenes only.
+  // Scenes (estimators/scene/scene_estimators.h): the parameters the estimator reads on a scene
+  // and the factory of its SceneEstimator (its SceneForm). Unset: the estimator works on
+  // analytic integrands only; `make` unset: on scenes only.
   std::vector<ParamSpec> scene_params = {};
-  std::function<scene::RenderConfig(const ResolvedParams&)> make_render = {};
+  MakeSceneEstimator make_render = {};
 
   bool renders_scenes() const { return static_cast<bool>(make_render); }
   bool samples_analytic() const { return static_cast<bool>(make); }
@@ -52,7 +52,17 @@ const std::vector<EstimatorEntry>& estimator_registry();
 // Estimators of scenes only (path tracing, light tracing, the scene negative controls).
 const std::vector<EstimatorEntry>& scene_estimator_registry();
 
+// Adds a row to the scene-only table, for a binary that brings estimators of its own
+// (examples/main.cpp). Call it before anything looks an estimator up: rows may move.
+void register_scene_estimator(EstimatorEntry entry);
+
 // Throws InputError naming the valid estimators.
 const EstimatorEntry& find_estimator(const std::string& name);
+
+// The scene form of estimator `name` with `params` (defaults for the rest), as a run makes it:
+// for tests and benchmarks. Throws InputError for a bad name or value, or an estimator that
+// does not render scenes.
+std::shared_ptr<const scene::SceneEstimator> make_scene_estimator(const std::string& name,
+                                                                  const ParamText& params = {});
 
 }  // namespace pcbench

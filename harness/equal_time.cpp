@@ -17,11 +17,11 @@ constexpr PilotRule kAnalyticPilot{
 
 // Scenes: 2 replicates × 2 samples per pixel of the real image (a smaller image would measure
 // another cost: the light pool, splats and tiles scale with the pixels). A scene replicate's
-// cpu_seconds is process CPU over the replicate (scene_render.h), not thread CPU: the image
-// renders on TBB's workers inside one call, whose thread CPU would be the calling thread's
-// share alone. So the pilot measures with the clock its replicates report, and T means the same
-// in both. Any N from 1 is a whole image; the limit is that of analytic runs (which also fits
-// the renderer's 32-bit iteration count).
+// cpu_seconds is process CPU over the replicate (estimators/scene/render_replicate.h), not
+// thread CPU: the image renders on TBB's workers inside one call, whose thread CPU would be the
+// calling thread's share alone. So the pilot measures with the clock its replicates report, and
+// T means the same in both. Any N from 1 is a whole image; the limit is that of analytic runs
+// (which also fits the renderer's 32-bit iteration count).
 constexpr PilotRule kScenePilot{
     .samples = 2, .step = 1, .least = 1, .unit = "sample per pixel", .units = "samples per pixel"};
 static_assert(kMaxSamples <= std::numeric_limits<std::uint32_t>::max(),

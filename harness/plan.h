@@ -86,7 +86,8 @@ struct RunPlan {
   double pilot_cpu_per_sample = 0.0;                // what the pilot measured
   std::optional<std::string> expect;                // unset: "consistent" if there is a reference
   std::shared_ptr<const Estimator> made_estimator;  // analytic integrands
-  std::optional<scene::RenderConfig> render;        // scenes (made_integrand is a SceneIntegrand)
+  // Scenes (made_integrand is a SceneIntegrand).
+  std::shared_ptr<const scene::SceneEstimator> render;
   std::shared_ptr<const Integrand> made_integrand;
 };
 

@@ -26,7 +26,7 @@ const SceneIntegrand& checked_scene(const RunPlan& plan) {
   if (plan.estimator->biased) {
     throw InputError(fmt::format("{}: a negative control makes no reference", what));
   }
-  if (!scene::samples_all_paths(plan.render->method, scene->scene())) {
+  if (!plan.render->samples_all_paths(scene->scene())) {
     throw InputError(fmt::format(
         "{}: this estimator cannot sample every light-carrying path of the scene; use plain, "
         "vc-all, lvc or pcbpt",

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <exception>
 
+#include "estimators/scene/render_replicate.h"
 #include "integrands/scenes/scene_integrand.h"
-#include "integrands/scenes/scene_render.h"
 
 namespace pcbench {
 namespace {
@@ -80,9 +80,9 @@ RunResult execute_scene_run(const RunPlan& plan, const RunnerOptions& options) {
   }
   const std::uint64_t pixels =
       integrand.scene().description().width * std::uint64_t{integrand.scene().description().height};
-  result.counters.camera_paths = plan.render->method == scene::Method::kLightTracing
-                                     ? 0
-                                     : pixels * plan.samples * result.replicates.size();
+  result.counters.camera_paths = plan.render->traces_camera_paths(integrand.scene())
+                                     ? pixels * plan.samples * result.replicates.size()
+                                     : 0;
   result.counters.light_paths = counters.light_paths;
   result.counters.connections = counters.connections;
   result.scene_counters = {{"camera_rays", counters.camera_rays},

@@ -33,7 +33,7 @@ bool same_scene(const RunRecord& a, const RunRecord& b) {
 }
 
 bool samples_all_paths(const RunRecord& r, const scene::Scene& s) {
-  return scene::samples_all_paths(r.plan->render->method, s);
+  return r.plan->render->samples_all_paths(s);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "estimators/scene/scene_estimator.h"
 #include "harness/calibration.h"
 #include "harness/errors.h"
 #include "harness/image_statistics.h"
@@ -22,7 +23,6 @@
 #include "harness/runner.h"
 #include "harness/statistics.h"
 #include "harness/tile_checks.h"
-#include "integrands/scenes/scene_render.h"
 #include "results/report.h"
 
 namespace pcbench {
@@ -203,7 +203,7 @@ std::vector<ComparisonSpec> comparison_specs(const TileCalibrationOptions& optio
           options.scenes[s]));
     }
     for (const RunPlan* plan : scene.runs) {
-      if (!scene::samples_all_paths(plan->render->method, scene.integrand->scene())) {
+      if (!plan->render->samples_all_paths(scene.integrand->scene())) {
         throw InputError(fmt::format(
             "tile calibration: {} cannot sample every path of '{}', so a comparison with another "
             "estimator there would differ without a fault in either",

@@ -358,7 +358,7 @@ TEST(PlanBudget, AScenePlansSecondsWithinTheirRange) {
   ASSERT_TRUE(plan.seconds.has_value());
   EXPECT_EQ(*plan.seconds, 0.5);
   EXPECT_EQ(plan.samples, 0u);  // until the pilot chooses
-  EXPECT_TRUE(plan.render.has_value());
+  EXPECT_TRUE(plan.render != nullptr);
   for (const double bad : {0.0, -1.0, 2 * kMaxSecondsPerReplicate}) {
     scene.seconds = bad;
     EXPECT_TRUE(contains(plan_error({scene}), "out of range")) << bad;

@@ -1,17 +1,19 @@
 // The multiple-importance-sampling weights and connections of the scene code, on full paths
 // z_0 .. z_k (z_0 at the camera, z_k on an emitter) taken from real subpaths:
 //   - mis_weight gives strategy (s, t), s + t = k + 1, the balance heuristic n_s p_s / Σ n p
-//     over the strategies of each method's StrategyCounts (p: the product of the vertices' area
-//     densities as that strategy samples them), so the weights sum to 1;
+//     over the strategies of each scene estimator's StrategyCounts (every estimator of the
+//     registry that renders scenes, at its defaults, and the example example-nee; p: the
+//     product of the vertices' area densities as that strategy samples them), so the weights
+//     sum to 1;
 //   - connect()'s unweighted value is the path's contribution f(z) divided by p_s;
 //   - the walks' bookkeeping (pdf_fwd, pdf_rev, beta) matches the path.
 // The densities and contributions here are computed from the vertex positions, apart from
-// path_vertex.cpp and connection.cpp. Last, every method renders the built-in furnace to its
-// exact radiance (SceneRenderFurnace), and the image does not depend on the thread count.
+// path_vertex.cpp and connection.cpp. Last, every honest estimator renders the built-in furnace
+// to its exact radiance (SceneRenderFurnace), and the image does not depend on the thread count.
 //
-// Error budget: only SceneRenderFurnace is statistical: 6 methods × 3 channels t tests, each
+// Error budget: only SceneRenderFurnace is statistical: 7 estimators × 3 channels t tests, each
 // asserting p > 1e-4, so a correct renderer fails by chance with probability at most
-// 18 × 1e-4 = 1.8e-3 (Bonferroni). The seeds are fixed.
+// 21 × 1e-4 = 2.1e-3 (Bonferroni). The seeds are fixed.
 
 #include <gtest/gtest.h>
 
@@ -25,6 +27,9 @@
 #include <string>
 #include <vector>
 
+#include "estimators/registry.h"
+#include "estimators/scene/render_replicate.h"
+#include "examples/example_nee.h"
 #include "harness/rng.h"
 #include "harness/statistics.h"
 #include "integrands/scenes/bsdf.h"
@@ -32,7 +37,6 @@
 #include "integrands/scenes/connection.h"
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/scene.h"
-#include "integrands/scenes/scene_render.h"
 
 namespace pcbench::scene {
 namespace {
@@ -292,19 +296,29 @@ SceneDescription cornell_with_point_light() {
   return d;
 }
 
-struct NamedCounts {
+struct NamedEstimator {
   std::string name;
-  RenderConfig config;
+  std::shared_ptr<const SceneEstimator> estimator;
 };
 
-// Every method, with pool sizes and draw counts of a typical run (they set StrategyCounts).
-std::vector<NamedCounts> every_method() {
-  return {{"pt", {.method = Method::kPathTracing}},
-          {"lt", {.method = Method::kLightTracing}},
-          {"bdpt", {.method = Method::kBdpt}},
-          {"vc", {.method = Method::kVertexConnection, .light_paths = 8}},
-          {"lvc", {.method = Method::kLightVertexCache, .light_paths = 1024, .draws = 8}},
-          {"pcbpt", {.method = Method::kProbabilistic, .light_paths = 1024, .draws = 8}}};
+// The worked example of README "Adding a scene estimator" at its defaults (it is registered in
+// pcbench_examples only).
+NamedEstimator example_nee() {
+  const EstimatorEntry e = examples::example_nee_entry();
+  return {e.name, e.make_render(resolve_params(e.scene_params, {}, e.name))};
+}
+
+// Every scene estimator of the registry at its defaults (pool sizes and draw counts of a typical
+// run: they set StrategyCounts), and the example (registered in pcbench_examples only).
+std::vector<NamedEstimator> every_estimator() {
+  std::vector<NamedEstimator> out;
+  for (const auto* table : {&estimator_registry(), &scene_estimator_registry()}) {
+    for (const EstimatorEntry& e : *table) {
+      if (e.renders_scenes()) out.push_back({e.name, make_scene_estimator(e.name)});
+    }
+  }
+  out.push_back(example_nee());
+  return out;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -313,15 +327,17 @@ std::vector<NamedCounts> every_method() {
 // For each path and method: mis_weight of every included strategy (count > 0) is the balance
 // heuristic over the included strategies, and they sum to 1.
 void check_weights(const Scene& scene, const std::vector<FullPath>& paths) {
+  const std::vector<NamedEstimator> estimators = every_estimator();
+  EXPECT_GE(estimators.size(), 9u);  // pt, lt, plain, vc-all, lvc, pcbpt, two controls, example
   std::size_t checked = 0;
   for (std::size_t n = 0; n < paths.size(); ++n) {
     const FullPath& p = paths[n];
     const PathFacts f = facts(scene, p);
     if (!usable(f)) continue;
     const std::size_t k = p.k();
-    for (const NamedCounts& method : every_method()) {
+    for (const NamedEstimator& method : estimators) {
       SCOPED_TRACE("path " + std::to_string(n) + " k " + std::to_string(k) + " " + method.name);
-      const StrategyCounts counts = strategy_counts(method.config, scene);
+      const StrategyCounts counts = method.estimator->strategy_counts(scene);
       double total = 0.0;
       for (std::size_t s = 0; s <= k; ++s) {
         const double c =
@@ -376,7 +392,7 @@ TEST(SceneMisWeights, SumToOneWithAPointLight) {
 // connect(), unweighted, is f(z) / p_s for every strategy of the path; weighted, it is that
 // times mis_weight.
 void check_connections(const Scene& scene, const std::vector<FullPath>& paths) {
-  const StrategyCounts counts = strategy_counts({.method = Method::kBdpt}, scene);
+  const StrategyCounts counts = make_scene_estimator("plain")->strategy_counts(scene);
   std::size_t checked = 0;
   for (std::size_t n = 0; n < paths.size(); ++n) {
     const FullPath& p = paths[n];
@@ -474,24 +490,26 @@ SceneDescription small_furnace() {
   return d;
 }
 
-std::vector<NamedCounts> render_configs() {
-  return {{"pt", {.method = Method::kPathTracing}},
-          {"lt", {.method = Method::kLightTracing}},
-          {"bdpt", {.method = Method::kBdpt}},
-          {"vc", {.method = Method::kVertexConnection, .light_paths = 8}},
-          {"lvc", {.method = Method::kLightVertexCache, .light_paths = 256, .draws = 4}},
-          {"pcbpt", {.method = Method::kProbabilistic, .light_paths = 256, .draws = 4, .tile = 4}}};
+// The honest estimators, with smaller pools than their defaults (an 8×8 image needs fewer).
+std::vector<NamedEstimator> render_configs() {
+  return {{"pt", make_scene_estimator("pt")},
+          {"lt", make_scene_estimator("lt")},
+          {"bdpt", make_scene_estimator("plain")},
+          {"vc", make_scene_estimator("vc-all", {{"M", "8"}})},
+          {"lvc", make_scene_estimator("lvc", {{"M", "256"}, {"K", "4"}})},
+          {"pcbpt", make_scene_estimator("pcbpt", {{"M", "256"}, {"K", "4"}, {"tile", "4"}})},
+          example_nee()};
 }
 
 TEST(SceneRenderFurnace, EveryMethodIsUnbiased) {
   const Scene scene(small_furnace());
   const Rgb reference = furnace_radiance(3);
-  for (const NamedCounts& method : render_configs()) {
+  for (const NamedEstimator& method : render_configs()) {
     SCOPED_TRACE(method.name);
     // Per replicate and channel, the image's mean over all pixels.
     std::vector<Rgb> means;
     for (std::uint32_t r = 0; r < kReplicates; ++r) {
-      const Image image = render_replicate(scene, method.config, 77, r, kIterations).image;
+      const Image image = render_replicate(scene, *method.estimator, 77, r, kIterations).image;
       Rgb sum;
       for (std::size_t i = 0; i < image.pixel_count(); ++i) {
         sum += {image.values[3 * i], image.values[3 * i + 1], image.values[3 * i + 2]};
@@ -517,13 +535,13 @@ TEST(SceneRenderFurnace, EveryMethodIsUnbiased) {
 
 TEST(SceneRenderFurnace, ThreadCountDoesNotChangeTheImage) {
   const Scene scene(small_furnace());
-  for (const NamedCounts& method : render_configs()) {
+  for (const NamedEstimator& method : render_configs()) {
     SCOPED_TRACE(method.name);
     std::vector<double> images[2];
     for (int threads : {1, 2}) {
       const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                                       static_cast<std::size_t>(threads));
-      images[threads - 1] = render_replicate(scene, method.config, 99, 3, 2).image.values;
+      images[threads - 1] = render_replicate(scene, *method.estimator, 99, 3, 2).image.values;
     }
     ASSERT_EQ(images[0].size(), images[1].size());
     EXPECT_EQ(std::memcmp(images[0].data(), images[1].data(), images[0].size() * sizeof(double)),

@@ -1,0 +1,39 @@
+// ctl-scene-visible-only (scene negative control): probabilistic connections whose importance
+// is zero wherever the tile's cache point sees no light, with no uniform mixing.
+//
+// The mistake: pcbpt (pcbpt.cpp) with visibility=cache-point and u = 0, so P = 0 for every
+// light vertex the cache point cannot see, although other pixels of its tile can; a tile whose
+// cache point sees none draws nothing at all. Light reaching a tile past an occluder its cache
+// point sits behind is lost: biased low where visibility changes within a tile (door-ajar). In
+// a convex furnace every cache point sees every light vertex and it is honest. Parameters and
+// defaults are pcbpt's (PcbptConfig, pcbpt.h): M (1024), K (8), tile (8).
+// Declared workload: door-ajar, 16 spp × 16 replicates.
+#include "estimators/scene/pcbpt.h"
+#include "estimators/scene/scene_estimators.h"
+
+namespace pcbench {
+
+EstimatorEntry ctl_scene_visible_only_entry() {
+  const scene::PcbptConfig d;
+  EstimatorEntry e = scene_only_entry(
+      "ctl-scene-visible-only",
+      "scenes: pcbpt with importance zero where the tile's cache point sees no light, no mixing",
+      {.params = {light_paths_spec(d.light_paths), vertex_draws_spec(d.draws), tile_spec(d.tile)},
+       .make =
+           [](const ResolvedParams& p) {
+             scene::PcbptConfig c;
+             c.light_paths = static_cast<std::uint32_t>(p.integer("M"));
+             c.draws = static_cast<std::uint32_t>(p.integer("K"));
+             c.tile = static_cast<std::uint32_t>(p.integer("tile"));
+             c.uniform_mix = 0.0;
+             c.cache_visibility = true;
+             c.unseen_tiles_draw_nothing = true;
+             return scene::make_pcbpt(c);
+           }},
+      true);
+  e.declared = DeclaredWorkload{
+      .integrand = "door-ajar", .samples = 16, .replicates = 16, .partners = {"plain"}};
+  return e;
+}
+
+}  // namespace pcbench

@@ -1,0 +1,56 @@
+// pt (scenes only): path tracing with next-event estimation.
+//
+// Estimates the image I_j = ∫ f_j(z) dz over paths z of 1 .. max_length edges with one camera
+// subpath y_0 .. y_{n} per pixel and iteration and no pool: every camera prefix y_0 .. y_{t-1}
+// (t >= 2) adds its own emitter hit, strategy (0, t), and connects to one emitter vertex x_0
+// sampled by power and area (strategy (1, t), next-event estimation), each weighted by the
+// balance heuristic over the two (Veach's thesis, ch. 9–10):
+//     <I_j> = Σ_t [ w_{0,t} f / p_{0,t} + w_{1,t} f / p_{1,t} ],   counts n_{0,t} = n_{1,t} = 1.
+// Parameters: none. Misses point light → mirror paths (no emitter to hit, no diffuse vertex to
+// connect at), so it is no reference on scenes that have both.
+#include "estimators/scene/scene_estimators.h"
+
+namespace pcbench {
+namespace {
+
+class PathTracingPass final : public scene::ScenePass {
+ public:
+  explicit PathTracingPass(const scene::RenderServices& services) : services_(services) {}
+
+  scene::Rgb connections(const scene::LightPool&, scene::CameraPrefix& prefix) const override {
+    // From the camera stream, where the pixel's subpath left it.
+    const scene::PathVertex emitter =
+        scene::sample_emitter_vertex(services_.scene(), prefix.camera);
+    return services_.connect_recorded(std::span(&emitter, 1), prefix);
+  }
+
+ private:
+  const scene::RenderServices& services_;
+};
+
+class PathTracing final : public scene::SceneEstimator {
+ public:
+  std::uint32_t pool_size(const scene::Scene&) const override { return 0; }
+  scene::StrategyCounts strategy_counts(const scene::Scene&) const override {
+    return {.emitter_hit = 1.0, .next_event = 1.0, .connection = 0.0, .light_tracing = 0.0};
+  }
+  bool samples_all_paths(const scene::Scene& scene) const override {
+    return !scene::needs_light_subpaths(scene);
+  }
+  std::unique_ptr<scene::ScenePass> begin_replicate(
+      const scene::RenderServices& services) const override {
+    return std::make_unique<PathTracingPass>(services);
+  }
+};
+
+}  // namespace
+
+EstimatorEntry pt_entry() {
+  return scene_only_entry(
+      "pt", "scenes: path tracing with next-event estimation (s <= 1)",
+      {.params = {}, .make = [](const ResolvedParams&) {
+         return std::shared_ptr<const scene::SceneEstimator>(std::make_shared<PathTracing>());
+       }});
+}
+
+}  // namespace pcbench

@@ -1,0 +1,95 @@
+// The scene estimator interface: the scene counterpart of Estimator (estimators/estimator.h).
+//
+// An iteration renders one sample per pixel: one pool of light subpaths shared by every pixel,
+// one camera subpath per pixel (integrands/scenes/render_services.h traces both). A scene
+// estimator says
+//   - how many light subpaths an iteration needs (pool_size; 0 for none),
+//   - how many samples per pixel and iteration it takes of each kind of strategy (s, t)
+//     (strategy_counts): the counts of the balance heuristic, constants of the estimator and
+//     the scene, never of the current pool, so that f stays independent of the pool. They also
+//     say which strategies it samples at all: light tracing (t = 1, every pool path splatted to
+//     the camera) when light_tracing > 0, the camera paths' own emitter hits (s = 0) when
+//     emitter_hit > 0, connections (s, t >= 2) when next_event or connection > 0;
+//   - which light-carrying paths it can sample at all (samples_all_paths; an image that misses
+//     some is never a reference for them),
+//   - and, through the ScenePass it makes per replicate: per-iteration preparation from the
+//     pool (where a guided estimator builds its distributions) and the connections of one
+//     camera prefix.
+// The loop that runs it is estimators/scene/render_replicate.h; the renderer's services (tracing
+// with the run's streams, connect() with its MIS weight, splats, strategy tallies, counters) are
+// all an estimator uses. Each estimator is a file in estimators/scene/ named after its registry
+// key; README "Adding a scene estimator" walks through one.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "integrands/scenes/connection.h"
+#include "integrands/scenes/render_services.h"
+#include "integrands/scenes/scene.h"
+
+namespace pcbench::scene {
+
+// One estimator at work on one replicate. prepare() runs once per iteration before any pixel,
+// on the calling thread; connections() then runs for many pixels at once (one image row per
+// thread), so it must leave the pass unchanged.
+class ScenePass {
+ public:
+  virtual ~ScenePass() = default;
+
+  // Per-iteration preparation from the iteration's pool, such as pcbpt's P tables. Work it
+  // traces (shadow rays of an importance) is counted in `counters`.
+  virtual void prepare(const LightPool& pool, TraceCounters& counters) {
+    (void)pool;
+    (void)counters;
+  }
+
+  // The connections of camera prefix y_0 .. y_{t-1} (t >= 2, prefix.max_s >= 1) with light
+  // vertices: their sum, each MIS-weighted by RenderServices::connect and its share recorded by
+  // RenderServices::record (the strategy images must add up to the image).
+  virtual Rgb connections(const LightPool& pool, CameraPrefix& prefix) const = 0;
+};
+
+// Whether `scene` has paths only light subpaths can make: point light → mirror paths (no
+// emitter for a camera subpath to hit, no diffuse vertex to connect at). Estimators without a
+// pool (path tracing) miss them.
+inline bool needs_light_subpaths(const Scene& scene) {
+  return scene.traits().has_point_lights && scene.traits().has_specular;
+}
+
+class SceneEstimator {
+ public:
+  virtual ~SceneEstimator() = default;
+
+  // Light subpaths per iteration, shared by every pixel (0: none).
+  virtual std::uint32_t pool_size(const Scene& scene) const = 0;
+
+  // Samples per pixel and iteration of each kind of strategy (connection.h), 0 for a kind it
+  // does not sample.
+  virtual StrategyCounts strategy_counts(const Scene& scene) const = 0;
+
+  // Whether it samples every light-carrying path of `scene` (path tracing misses point light →
+  // mirror paths; light tracing misses camera → mirror paths).
+  virtual bool samples_all_paths(const Scene& scene) const {
+    (void)scene;
+    return true;
+  }
+
+  // The estimator's state for one replicate (pcbpt traces its cache points here); `services`
+  // outlives the pass.
+  virtual std::unique_ptr<ScenePass> begin_replicate(const RenderServices& services) const = 0;
+
+  // What the counts say it samples (see the top of this file).
+  bool splats_to_camera(const Scene& scene) const {
+    return strategy_counts(scene).light_tracing > 0.0;
+  }
+  bool adds_emitter_hits(const Scene& scene) const {
+    return strategy_counts(scene).emitter_hit > 0.0;
+  }
+  bool traces_camera_paths(const Scene& scene) const {
+    const StrategyCounts c = strategy_counts(scene);
+    return c.emitter_hit > 0.0 || c.next_event > 0.0 || c.connection > 0.0;
+  }
+};
+
+}  // namespace pcbench::scene

@@ -1,0 +1,65 @@
+// vc-all on scenes: vertex connection to every light path of a pool.
+//
+// Estimates the image with M light subpaths per iteration shared by every pixel: every camera
+// vertex y_{t-1} (t >= 2) connects to every vertex of every pool path, weighted 1/M, so each
+// connection strategy (s >= 1, t >= 2) is sampled M times per pixel and iteration; the camera
+// subpath's emitter hits (s = 0) once, light tracing (t = 1) M times; balance heuristic over
+// those counts:
+//     <I_j> = Σ_t [ w_{0,t} f / p_{0,t} + 1/M Σ_{paths} Σ_s w_{s,t} f / p_{s,t} ] + light tracing.
+// Parameters on scenes: M, light paths per iteration (default 8).
+#include "estimators/scene/scene_estimators.h"
+
+namespace pcbench {
+namespace {
+
+constexpr std::uint32_t kDefaultLightPaths = 8;
+
+class VertexConnectionPass final : public scene::ScenePass {
+ public:
+  explicit VertexConnectionPass(const scene::RenderServices& services) : services_(services) {}
+
+  scene::Rgb connections(const scene::LightPool& pool, scene::CameraPrefix& prefix) const override {
+    const double per_path = 1.0 / static_cast<double>(pool.paths.size());
+    scene::Rgb value;
+    for (const scene::Subpath& path : pool.paths) {
+      for (std::uint32_t s = 1; s <= std::min<std::uint32_t>(prefix.max_s, path.size()); ++s) {
+        const scene::Rgb v = services_.connect(std::span(path).first(s), prefix);
+        services_.record(s, prefix, v * per_path);
+        value += v;
+      }
+    }
+    return value / static_cast<double>(pool.paths.size());
+  }
+
+ private:
+  const scene::RenderServices& services_;
+};
+
+class VertexConnection final : public scene::SceneEstimator {
+ public:
+  explicit VertexConnection(std::uint32_t light_paths) : light_paths_(light_paths) {}
+
+  std::uint32_t pool_size(const scene::Scene&) const override { return light_paths_; }
+  scene::StrategyCounts strategy_counts(const scene::Scene& scene) const override {
+    const double pool = pool_size(scene);
+    return {.emitter_hit = 1.0, .next_event = pool, .connection = pool, .light_tracing = pool};
+  }
+  std::unique_ptr<scene::ScenePass> begin_replicate(
+      const scene::RenderServices& services) const override {
+    return std::make_unique<VertexConnectionPass>(services);
+  }
+
+ private:
+  std::uint32_t light_paths_;
+};
+
+}  // namespace
+
+SceneForm vc_all_scene_form() {
+  return {.params = {light_paths_spec(kDefaultLightPaths)}, .make = [](const ResolvedParams& p) {
+            return std::shared_ptr<const scene::SceneEstimator>(
+                std::make_shared<VertexConnection>(static_cast<std::uint32_t>(p.integer("M"))));
+          }};
+}
+
+}  // namespace pcbench
