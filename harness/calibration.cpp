@@ -384,25 +384,25 @@ void print_calibration(const CalibrationResult& result, std::ostream& out) {
   }
 }
 
-int run_calibration(const CalibrationOptions& options, const SessionOptions& session,
-                    std::ostream& out, std::ostream& err) {
-  CalibrationResult result;
-  try {
-    result = calibrate(options);
-  } catch (const CalibrationInterrupted&) {
-    err << "pcbench: calibration interrupted: no report (the self-test needs all its seeds)\n";
-    return kExitInterrupted;
-  }
-  if (!session.quiet) print_calibration(result, out);
-  ReportSections sections;
-  sections.calibration = nlohmann::json(calibration_json(result));
-  const auto report_path =
-      publish_report(report_json(gather_context(session.argv, options.first_seed, session.threads),
-                                 "calibration", {}, sections),
-                     session, err);
+int publish_self_test(const char* suite, const ReportSections& sections, bool pass,
+                      std::uint64_t first_seed, const SessionOptions& session, std::ostream& out,
+                      std::ostream& err) {
+  const auto report_path = publish_report(
+      report_json(gather_context(session.argv, first_seed, session.threads), suite, {}, sections),
+      session, err);
   if (!report_path) return kExitRunFailed;
   out << "report: " << report_path->string() << "\n";
-  return result.pass ? kExitOk : kExitVerdictDiffers;
+  return pass ? kExitOk : kExitVerdictDiffers;
+}
+
+int run_calibration(const CalibrationOptions& options, const SessionOptions& session,
+                    std::ostream& out, std::ostream& err) {
+  return run_self_test(
+      "calibration", options.first_seed, session, out, err, [&] { return calibrate(options); },
+      print_calibration,
+      [](const CalibrationResult& result, ReportSections& sections) {
+        sections.calibration = nlohmann::json(calibration_json(result));
+      });
 }
 
 }  // namespace pcbench

@@ -18,8 +18,8 @@
 
 #include <atomic>
 #include <cstdint>
-#include <iosfwd>
 #include <nlohmann/json_fwd.hpp>
+#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -27,6 +27,7 @@
 #include "harness/diagnostics.h"
 #include "harness/params.h"
 #include "harness/session.h"
+#include "results/report.h"
 
 namespace pcbench {
 
@@ -144,6 +145,31 @@ ProportionInterval wilson_interval(std::uint64_t successes, std::uint64_t trials
 
 // `pcbench calibrate`: runs calibrate(), prints it, writes a report whose `calibration` holds
 // it. Exit 0 when it passes, 1 when it does not.
+// What `pcbench calibrate` does with either self-test (this one, harness/tile_calibration.h):
+// runs `compute` (CalibrationInterrupted: exit 130, no report), prints the result unless quiet,
+// publishes a report whose `section` holds its JSON, exit 0 when it passes and 1 when not.
+template <class Compute, class Print, class ToSection>
+int run_self_test(const char* suite, std::uint64_t first_seed, const SessionOptions& session,
+                  std::ostream& out, std::ostream& err, Compute compute, Print print,
+                  ToSection to_section) {
+  decltype(compute()) result;
+  try {
+    result = compute();
+  } catch (const CalibrationInterrupted&) {
+    err << "pcbench: calibration interrupted: no report (the self-test needs all its seeds)\n";
+    return kExitInterrupted;
+  }
+  if (!session.quiet) print(result, out);
+  ReportSections sections;
+  to_section(result, sections);
+  return publish_self_test(suite, sections, result.pass, first_seed, session, out, err);
+}
+
+// Publishes a self-test's report and says where; the exit status as above.
+int publish_self_test(const char* suite, const ReportSections& sections, bool pass,
+                      std::uint64_t first_seed, const SessionOptions& session, std::ostream& out,
+                      std::ostream& err);
+
 int run_calibration(const CalibrationOptions& options, const SessionOptions& session,
                     std::ostream& out, std::ostream& err);
 

@@ -735,23 +735,12 @@ void print_tile_calibration(const TileCalibrationResult& result, std::ostream& o
 
 int run_tile_calibration(const TileCalibrationOptions& options, const SessionOptions& session,
                          std::ostream& out, std::ostream& err) {
-  TileCalibrationResult result;
-  try {
-    result = calibrate_tiles(options);
-  } catch (const CalibrationInterrupted&) {
-    err << "pcbench: calibration interrupted: no report (the self-test needs all its seeds)\n";
-    return kExitInterrupted;
-  }
-  if (!session.quiet) print_tile_calibration(result, out);
-  ReportSections sections;
-  sections.tile_calibration = nlohmann::json(tile_calibration_json(result));
-  const auto report_path =
-      publish_report(report_json(gather_context(session.argv, options.first_seed, session.threads),
-                                 "tile calibration", {}, sections),
-                     session, err);
-  if (!report_path) return kExitRunFailed;
-  out << "report: " << report_path->string() << "\n";
-  return result.pass ? kExitOk : kExitVerdictDiffers;
+  return run_self_test(
+      "tile calibration", options.first_seed, session, out, err,
+      [&] { return calibrate_tiles(options); }, print_tile_calibration,
+      [](const TileCalibrationResult& result, ReportSections& sections) {
+        sections.tile_calibration = nlohmann::json(tile_calibration_json(result));
+      });
 }
 
 }  // namespace pcbench
