@@ -389,7 +389,8 @@ TEST(ImageStatisticsTiles, BrightestTile) {
   std::vector<Image> a(2, Image(16, 8)), b(2, Image(16, 8));
   a[0].at(3, 5, 2) = 7.0;
   a[1].at(3, 5, 2) = 9.0;
-  const TileTest& brightest = brightest_tile(compare_tiles(a, b, kAlpha));
+  const TileTestResult result = compare_tiles(a, b, kAlpha);
+  const TileTest& brightest = brightest_tile(result);
   EXPECT_EQ(brightest.tile_x, 0u);
   EXPECT_EQ(brightest.tile_y, 0u);
   EXPECT_EQ(brightest.channel, 2u);
