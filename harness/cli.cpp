@@ -514,27 +514,26 @@ int calibrate_command_line(const CalibrateArguments& calibration, const RunArgum
   prepare_out_dir(args.out_dir, app.count("--out") > 0);
   const SessionOptions session = session_options(args, argv, interrupted);
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
-  if (scenes > 0) {
-    TileCalibrationOptions options;
-    options.scenes = calibration.integrands;
+  // What both self-tests take from the command line alike.
+  const auto take_common = [&](auto& options) {
     if (!calibration.estimators.empty()) options.estimators = calibration.estimators;
-    options.params = calibrate_params(args, options.estimators, options.scenes);
     if (calibration.samples > 0) options.samples = calibration.samples;
     if (calibration.replicates > 0) options.replicates = calibration.replicates;
     if (calibration.seeds > 0) options.seeds = calibration.seeds;
     if (given_seed) options.first_seed = args.seed;
     options.interrupted = interrupted;
+  };
+  if (scenes > 0) {
+    TileCalibrationOptions options;
+    options.scenes = calibration.integrands;
+    take_common(options);
+    options.params = calibrate_params(args, options.estimators, options.scenes);
     return run_tile_calibration(options, session, out, err);
   }
   CalibrationOptions options;
   if (!calibration.integrands.empty()) options.integrand = calibration.integrands.front();
-  if (!calibration.estimators.empty()) options.estimators = calibration.estimators;
+  take_common(options);
   options.params = calibrate_params(args, options.estimators, {options.integrand});
-  if (calibration.samples > 0) options.samples = calibration.samples;
-  if (calibration.replicates > 0) options.replicates = calibration.replicates;
-  if (calibration.seeds > 0) options.seeds = calibration.seeds;
-  if (given_seed) options.first_seed = args.seed;
-  options.interrupted = interrupted;
   return run_calibration(options, session, out, err);
 }
 
