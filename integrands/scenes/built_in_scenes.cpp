@@ -85,6 +85,33 @@ SceneDescription door() {
   return s;
 }
 
+SceneDescription lampshade() {
+  SceneDescription s;
+  s.name = "lampshade";
+  s.source = "built-in";
+  const auto white = add_material(s, {"white", MaterialKind::kDiffuse, {0.75, 0.75, 0.75}, 0.0});
+  const auto cloth = add_material(s, {"cloth", MaterialKind::kDiffuse, {0.8, 0.7, 0.5}, 0.0});
+  const auto wood = add_material(s, {"wood", MaterialKind::kDiffuse, {0.6, 0.45, 0.3}, 0.0});
+  // The room x, z in [0, 2], y in [0, 1.6].
+  add_box(s, {0.0, 0.0, 0.0}, {2.0, 1.6, 2.0}, white, true);
+  // The shade: a square tube open at both ends around (1.5, 0.5) in x, z, from y = 0.7 to 1.2.
+  // Two-sided quads: light bounces inside it, the room sees its outside.
+  const double x0 = 1.3, x1 = 1.7, z0 = 0.3, z1 = 0.7, y0 = 0.7, y1 = 1.2;
+  add_quad(s, {x0, y0, z0}, {x1, y0, z0}, {x1, y1, z0}, {x0, y1, z0}, cloth);
+  add_quad(s, {x0, y0, z1}, {x0, y1, z1}, {x1, y1, z1}, {x1, y0, z1}, cloth);
+  add_quad(s, {x0, y0, z0}, {x0, y1, z0}, {x0, y1, z1}, {x0, y0, z1}, cloth);
+  add_quad(s, {x1, y0, z0}, {x1, y0, z1}, {x1, y1, z1}, {x1, y1, z0}, cloth);
+  // The bulb: a small panel inside the shade facing up, on a thin stand. Only the ceiling patch
+  // above the shade and the shade's inside see it, so nearly every connection from the room to
+  // the emitter or to a first light bounce is blocked by the shade.
+  add_quad(s, {1.42, 0.75, 0.42}, {1.42, 0.75, 0.58}, {1.58, 0.75, 0.58}, {1.58, 0.75, 0.42}, white,
+           {300.0, 270.0, 220.0});
+  add_box(s, {1.48, 0.0, 0.48}, {1.52, 0.74, 0.52}, wood, false);
+  add_box(s, {0.5, 0.0, 0.8}, {1.0, 0.45, 1.3}, wood, false);  // a low table
+  s.camera = {{0.3, 0.7, 1.9}, {1.3, 0.6, 0.4}, {0.0, 1.0, 0.0}, 60.0};
+  return s;
+}
+
 SceneDescription furnace() {
   SceneDescription s;
   s.name = "furnace";
@@ -100,7 +127,7 @@ SceneDescription furnace() {
 
 const std::vector<std::string>& built_in_scene_names() {
   static const std::vector<std::string> names = {"cornell", "cornell-glossy", "door-ajar",
-                                                 "furnace"};
+                                                 "lampshade", "furnace"};
   return names;
 }
 
@@ -108,6 +135,7 @@ std::optional<SceneDescription> built_in_scene(const std::string& name) {
   if (name == "cornell") return cornell(false);
   if (name == "cornell-glossy") return cornell(true);
   if (name == "door-ajar") return door();
+  if (name == "lampshade") return lampshade();
   if (name == "furnace") return furnace();
   return std::nullopt;
 }

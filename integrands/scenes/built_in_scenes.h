@@ -4,6 +4,9 @@
 //   cornell-glossy  the same with a normalised-Phong floor and tall block
 //   door-ajar       two rooms joined by a door standing ajar; the light is in the far room, so
 //                   the camera's room is lit only through the narrow gap
+//   lampshade       a room lit by a small lamp that faces up inside a shade open at both ends:
+//                   the camera sees no emitter, and the shade blocks nearly every connection
+//                   from the room to the bulb or to a first light bounce
 //   furnace         a closed box whose walls all emit Le and reflect with albedo ρ: every pixel
 //                   sees exactly Le · Σ_{k<L} ρ^k (furnace_radiance)
 #pragma once

@@ -150,6 +150,8 @@ std::vector<IntegrandEntry> scene_integrand_entries() {
       {"cornell", "scene: diffuse Cornell box, square area light under the ceiling, two blocks"},
       {"cornell-glossy", "scene: the Cornell box with a Phong floor and tall block"},
       {"door-ajar", "scene: a room lit only through a door ajar from a lit neighbouring room"},
+      {"lampshade",
+       "scene: a room lit by a bulb inside a lampshade: connections to the light are occluded"},
       {"furnace", "scene: closed box emitting Le with albedo ρ; exact Le Σ_{k<L} ρ^k"},
   };
   std::vector<IntegrandEntry> out;
