@@ -151,14 +151,20 @@ std::vector<GridRequest> grids_from_flags(const RunArguments& args) {
   return {grid};
 }
 
-// Checks --out and creates the folder now, so that a report that cannot be written fails before
-// any run, not after. (The input is valid by then: creating it writes nothing half-done.)
-void prepare_out_dir(const std::string& out_dir, bool given) {
+// Checks --out without creating anything.
+void check_out_dir(const std::string& out_dir, bool given) {
   if (given && out_dir.empty()) throw InputError("command line: --out is empty; give a folder");
   if (out_dir.empty()) return;
   if (std::filesystem::exists(out_dir) && !std::filesystem::is_directory(out_dir)) {
     throw InputError(fmt::format("command line: --out '{}' exists and is not a folder", out_dir));
   }
+}
+
+// Checks --out and creates the folder now, so that a report that cannot be written fails before
+// any run, not after. (The input is valid by then: creating it writes nothing half-done.)
+void prepare_out_dir(const std::string& out_dir, bool given) {
+  check_out_dir(out_dir, given);
+  if (out_dir.empty()) return;
   std::error_code error;
   std::filesystem::create_directories(out_dir, error);
   if (error) {
@@ -212,7 +218,9 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     ImageSetRequest request = args.images;
     request.against = args.external.against;
     if (!args.crop.empty()) request.read.crop = parse_crop(args.crop);
-    prepare_out_dir(args.out_dir, run_app.count("--out") > 0);
+    // Only checked: the input files are read after this, and bad input must leave no folder.
+    // The folder is made when the report and images are written (write_file_atomically).
+    check_out_dir(args.out_dir, run_app.count("--out") > 0);
     return run_image_set_verification(request, session_options(args, argv, interrupted), out, err);
   }
   const bool image_options =
@@ -232,7 +240,7 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
           "command line: --estimates verifies a file of estimates; it takes no suite, "
           "--estimator, --integrand, --param or --exact");
     }
-    prepare_out_dir(args.out_dir, run_app.count("--out") > 0);
+    check_out_dir(args.out_dir, run_app.count("--out") > 0);  // as for --images above
     return run_external_verification(args.external, session_options(args, argv, interrupted), out,
                                      err);
   }
