@@ -174,6 +174,24 @@ nlohmann::ordered_json comparison_json(const Comparison& c) {
         finite_or_null(tile_samples_factor(*c.tile_relative_mdb));
     out["bright_tiles"] = c.bright_tiles;
     out["tile_alpha_share"] = c.tile_alpha_share;
+    out["tile_columns"] = c.tile_columns;
+    out["tile_rows"] = c.tile_rows;
+    Json differing = Json::array();
+    for (const Comparison::TileP& t : tiles_differing(c)) {
+      differing.push_back(Json::array({t.x, t.y, t.channel}));
+    }
+    out["tiles_differing"] = differing;
+  }
+  return out;
+}
+
+std::vector<Comparison::TileP> tiles_differing(const Comparison& c) {
+  std::vector<Comparison::TileP> out;
+  if (c.result != "biased") return out;
+  // p_value is the smallest tile's p; 0 (a non-finite tile) leaves no factor to scale by.
+  const double factor = c.p_value > 0.0 ? c.p_adjusted / c.p_value : 1.0;
+  for (const Comparison::TileP& t : c.tile_p_values) {
+    if (t.p_adjusted <= c.p_value || t.p_adjusted * factor <= c.alpha) out.push_back(t);
   }
   return out;
 }

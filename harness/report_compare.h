@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -48,7 +49,21 @@ struct Comparison {
   // Scene tile tests: the per-tile share of alpha that figure is computed at, alpha / (m × T)
   // with m the session family's tested verdicts and T the comparison's tile×channel tests.
   double tile_alpha_share = 0.0;
+  // Scene tile tests: every tile×channel test's Holm-adjusted p within the comparison, kept for
+  // the map of the tiles that differ (comparison_json writes only those, once the family has
+  // decided), and the tile grid.
+  struct TileP {
+    std::uint32_t x = 0, y = 0, channel = 0;
+    double p_adjusted = 1.0;
+  };
+  std::vector<TileP> tile_p_values = {};
+  std::uint32_t tile_columns = 0, tile_rows = 0;
 };
+
+// The tiles of a tile comparison that differ: those whose within-comparison Holm-adjusted p,
+// scaled by the family's factor for this comparison (p_adjusted / p_value), is <= alpha. A
+// biased comparison has at least its smallest-p tile; any other result has none.
+std::vector<Comparison::TileP> tiles_differing(const Comparison& c);
 
 // A run id present in both reports but not compared, and why (a run not ok, < 2 replicates).
 struct UncomparedRun {

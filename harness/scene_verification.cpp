@@ -71,6 +71,11 @@ Comparison tile_comparison(const TileTestResult& t, std::string a, std::string b
   c.tile_relative_mdb = t.worst_bright_relative_mdb;
   c.tile_alpha_share = t.detection_share;
   c.bright_tiles = t.bright_tiles;
+  for (const TileTest& tile : t.tiles) {
+    c.tile_p_values.push_back({tile.tile_x, tile.tile_y, tile.channel, tile.p_adjusted});
+    c.tile_columns = std::max(c.tile_columns, tile.tile_x + 1);
+    c.tile_rows = std::max(c.tile_rows, tile.tile_y + 1);
+  }
   return c;
 }
 

@@ -6,7 +6,10 @@ Chromium (Debian's /usr/bin/chromium) is driven over the DevTools protocol on a 
 (--remote-debugging-pipe: JSON messages ending in NUL on file descriptors 3 and 4), so nothing
 beyond Debian's packages is needed. Fails (exit 1) when the page logs a console error or throws,
 when an image does not decode, or when its table of runs differs from the report: the same run
-ids in the same order, each with the report's status and verdict.
+ids in the same order, each with the report's status and verdict; or when the answer at the top
+differs from the report: the verdict matrix must hold one cell per run, with its verdict and its
+efficiency relative to the first honest run on its integrand (recomputed here from the report),
+and the maps of tiles that differ must mark exactly the tiles the report's tile comparisons list.
 """
 
 import argparse
@@ -99,6 +102,13 @@ READ_PAGE = """JSON.stringify({
     id: tr.dataset.runId,
     status: tr.querySelector('td.status').dataset.status,
     verdict: tr.querySelector('td.verdict').dataset.verdict})),
+  matrix: [...document.querySelectorAll('#matrix td[data-run-id]')].map(td => ({
+    id: td.dataset.runId, verdict: td.dataset.verdict, relative: td.dataset.relative,
+    top: td.getBoundingClientRect().top + window.scrollY})),
+  runsTop: document.getElementById('runs-heading').getBoundingClientRect().top + window.scrollY,
+  tiles: [...document.querySelectorAll('.tilemap')].map(m => ({
+    integrand: m.dataset.integrand,
+    marked: [...m.querySelectorAll('[data-tile]')].map(t => [t.dataset.tile, t.className])})),
   images: [...document.images].map(img => ({ok: img.complete && img.naturalWidth > 0,
                                              alt: img.alt})),
   title: document.title})"""
@@ -156,10 +166,75 @@ def check_page(index, report_path, screenshot=None, section=None):
         failures.append(f"table differs from the report: page {seen['rows'][:3]}... "
                         f"({len(seen['rows'])} rows), report {expected[:3]}... "
                         f"({len(expected)} runs)")
+    failures += matrix_problems(report, seen)
     broken = [img["alt"] for img in seen["images"] if not img["ok"]]
     if broken:
         failures.append(f"{len(broken)} images did not decode: {broken[:3]}")
     return failures, seen
+
+
+def expected_relative(report):
+    """{run id: efficiency / the efficiency of the first run on the same integrand (and integrand
+    parameters) that is not expected biased and has one}; None where there is none."""
+    def eff(run):
+        source = run.get("image") if isinstance(run.get("image"), dict) else run.get("aggregates")
+        value = (source or {}).get("efficiency")
+        return value if isinstance(value, (int, float)) and value > 0 else None
+
+    out, baselines = {}, {}
+    runs = report.get("runs") or []
+    for run in runs:
+        key = (run["integrand"], json.dumps(run.get("integrand_params") or {}, sort_keys=True))
+        if key not in baselines:
+            baselines[key] = None
+        if (baselines[key] is None and eff(run) is not None and
+                (run.get("verdict") or {}).get("expect") != "biased"):
+            baselines[key] = eff(run)
+    for run in runs:
+        key = (run["integrand"], json.dumps(run.get("integrand_params") or {}, sort_keys=True))
+        base = baselines[key]
+        out[run["id"]] = eff(run) / base if base and eff(run) is not None else None
+    return out
+
+
+def matrix_problems(report, seen):
+    found = []
+    runs = report.get("runs") or []
+    cells = {c["id"]: c for c in seen["matrix"]}
+    if sorted(cells) != sorted(r["id"] for r in runs) or len(seen["matrix"]) != len(runs):
+        found.append(f"the matrix has {len(seen['matrix'])} cells for {len(runs)} runs")
+    relative = expected_relative(report)
+    for run in runs:
+        cell = cells.get(run["id"])
+        if cell is None:
+            continue
+        verdict = (run.get("verdict") or {}).get("result") or ""
+        if cell["verdict"] != verdict:
+            found.append(f"matrix cell {run['id']}: verdict {cell['verdict']!r}, report {verdict!r}")
+        want, got = relative[run["id"]], cell["relative"]
+        if (want is None) != (got == "") or (want is not None and
+                                              abs(float(got) - want) > 1e-9 * abs(want)):
+            found.append(f"matrix cell {run['id']}: relative efficiency {got!r}, report {want}")
+        if cell["top"] > seen["runsTop"]:
+            found.append("the matrix is not above the table of runs")
+    # The tile maps: per integrand, the tiles the report's tile comparisons list as differing.
+    want_tiles = {}
+    for c in report.get("comparisons") or []:
+        if c.get("tile_columns") is None or c["a"].endswith("+injected"):
+            continue
+        marks = want_tiles.setdefault(c["integrand"], {})
+        for x in range(c["tile_columns"]):
+            for y in range(c["tile_rows"]):
+                marks.setdefault(f"{x},{y}", "")
+        for x, y, _ in c["tiles_differing"]:
+            kind = "expected" if c["expect"] == "biased" else "unexpected"
+            if marks[f"{x},{y}"] != "unexpected":
+                marks[f"{x},{y}"] = kind
+    got_tiles = {m["integrand"]: dict(m["marked"]) for m in seen["tiles"]}
+    if got_tiles != want_tiles:
+        found.append(f"the tile maps differ from the report's tiles_differing: page "
+                     f"{str(got_tiles)[:200]}, report {str(want_tiles)[:200]}")
+    return found
 
 
 def main():

@@ -3,7 +3,7 @@
     plot_check.py PCBENCH SOURCE_DIR
 
 Reports: analytic runs with a negative control (series, efficiency and its ratios, tests), scenes (images with
-exact and run references), a calibration (power curve measured), a tile calibration (power and
+exact and run references), `verify --images` on two exported replicate sets (image_sets), a calibration (power curve measured), a tile calibration (power and
 false alarms of the scene tile test), and the analytic report with its optional sections (series,
 images, comparisons, diagnostics) removed. For each: the figures
 the report calls for exist as PNG files, index.html passes tests/page_check.py in headless
@@ -72,6 +72,20 @@ def main():
             scene_runs = json.load(f)["runs"]
         check(all(os.path.isfile(os.path.join(scenes, r["image"]["files"]["reference"]))
                   for r in scene_runs), "scenes: every run names its reference image")
+
+        # verify --images: two pcbench exports of the furnace (seeds 1 and 2) against each other.
+        sets = []
+        for seed in ("1", "2"):
+            folder = os.path.join(scratch, "export" + seed)
+            run([pcbench, "run", "-e", "pt", "-i", "furnace", "-p", "resolution=16", "-n", "4",
+                 "-r", "4", "-s", seed, "--replicate-images", "--out", folder, "-q"])
+            sets.append(",".join(sorted(
+                os.path.join(folder, "images", f) for f in os.listdir(os.path.join(folder, "images"))
+                if "_rep" in f)))
+        images = os.path.join(scratch, "images")
+        run([pcbench, "verify", "--images", sets[0], "--against", sets[1], "--out", images, "-q"])
+        check_plotted(pcbench, os.path.join(images, "report.json"), ["image_set.png"],
+                      "verify --images")
 
         calibration = os.path.join(scratch, "calibration")
         run([pcbench, "calibrate", "--seeds", "20", "-n", "500", "--out", calibration, "-q"])

@@ -1,4 +1,5 @@
-"""index.html: context, the table of runs with coloured verdicts, comparisons, the figures.
+"""index.html: the answer first (the verdict matrix, the maps of tiles that differ), then the
+context, the table of runs with coloured verdicts, comparisons, the figures.
 
 Self-contained: the figures are embedded as data URIs and the style sheet is inline, so the page
 needs no network and can be mailed alone; only the links to the EXR files point beside it. Every
@@ -10,6 +11,7 @@ import base64
 import html
 import os
 
+from answer_view import tile_maps, verdict_matrix
 from report_view import (VERDICT_COLOURS, expectation_of, field, number, relative_link,
                          result_of)
 
@@ -29,6 +31,20 @@ dl.context dt { font-weight: bold; }
 figure { margin: 1em 0; } figure img { max-width: 100%; }
 figcaption { font-size: 0.8em; color: #555; }
 .summary span { display: inline-block; margin-right: 1em; }
+table.matrix td.cell { color: white; text-align: center; min-width: 4.5em; font-weight: bold; }
+table.matrix td.cell.unexpected { outline: 3px solid #000; outline-offset: -3px; }
+table.matrix td.empty { background: #fafafa; }
+table.matrix th.row { text-align: right; position: static; }
+.legend span { display: inline-block; margin-right: 1em; font-size: 0.8em; }
+.legend i { display: inline-block; width: 0.9em; height: 0.9em; margin-right: 0.3em;
+            vertical-align: middle; }
+.tilemaps { display: flex; flex-wrap: wrap; gap: 1.5em; }
+.tilemap { font-size: 0.8em; }
+.tilegrid { display: grid; gap: 1px; background: #bbb; border: 1px solid #bbb; }
+.tilegrid div { aspect-ratio: 1; background: #e8f5e9; font-size: 0.7em; color: white;
+                text-align: center; overflow: hidden; }
+.tilegrid div.unexpected { background: #c62828; }
+.tilegrid div.expected { background: #8d6e63; }
 """
 
 
@@ -196,6 +212,86 @@ def summary_line(runs, comparisons):
     return "<p class='summary'>" + "".join(parts) + "</p>"
 
 
+def _relative_text(value):
+    value = number(value)
+    if value is None:
+        return "—"
+    return f"{value:.2g}×" if value < 10 else f"{value:.0f}×"
+
+
+def matrix_block(report):
+    """The verdict matrix: estimator × integrand, coloured by verdict, with each run's
+    equal-time efficiency relative to its column's first honest run (answer_view.py)."""
+    rows, columns, cells = verdict_matrix(report)
+    if not rows:
+        return ""
+    out = ["<h2 id='answer'>What this report found</h2>",
+           "<p class='legend'>" + "".join(
+               f"<span><i style='background:{VERDICT_COLOURS.get(k, VERDICT_COLOURS[None])}'>"
+               f"</i>{k or 'not tested'}</span>"
+               for k in ("consistent", "biased", "inconclusive", None)) +
+           "<span>framed: the verdict differs from its expectation</span>"
+           "<span>number: equal-time efficiency relative to the first honest run in the column"
+           "</span></p>",
+           "<table id='matrix' class='matrix'><thead><tr><th></th>" +
+           "".join(f"<th>{html.escape(c)}</th>" for c in columns) + "</tr></thead><tbody>"]
+    for row in rows:
+        line = [f"<tr><th class='row'>{html.escape(row)}</th>"]
+        for column in columns:
+            found = cells.get((row, column))
+            if not found:
+                line.append("<td class='empty'></td>")
+                continue
+            for cell in found:
+                result, expect = cell["result"], cell["expect"]
+                colour = VERDICT_COLOURS.get(result, VERDICT_COLOURS[None])
+                unexpected = result is not None and expect is not None and result != expect
+                title = (f"{cell['id']}: {result or cell['status']}"
+                         f" (expected {expect or '—'})")
+                line.append(
+                    f"<td class='cell{' unexpected' if unexpected else ''}' "
+                    f"style='background:{colour}' data-run-id='{html.escape(cell['id'])}' "
+                    f"data-verdict='{result or ''}' data-relative='{cell['relative'] or ''}' "
+                    f"title='{html.escape(title)}'>{_relative_text(cell['relative'])}</td>")
+        out.append("".join(line) + "</tr>")
+    out.append("</tbody></table>")
+    return "\n".join(out)
+
+
+def tile_maps_block(report):
+    """Per integrand with tile comparisons: its tile grid, each tile marked by the comparisons
+    that found it different (red: expected consistent; brown: a control caught, as expected)."""
+    maps = tile_maps(report)
+    if not maps:
+        return ""
+    out = ["<p class='legend'><span>Tiles that differ, over the image (row 0 at the top; "
+           "the number: how many comparisons found the tile different):</span>"
+           "<span><i style='background:#c62828'></i>in a comparison expected consistent</span>"
+           "<span><i style='background:#8d6e63'></i>only where a control was expected to differ"
+           "</span><span><i style='background:#e8f5e9'></i>no difference found</span></p>",
+           "<div class='tilemaps'>"]
+    for integrand, m in maps.items():
+        grid = [f"<div class='tilemap' data-integrand='{html.escape(integrand)}'>"
+                f"<b>{html.escape(integrand)}</b> ({m['comparisons']} comparisons, "
+                f"{m['columns']}×{m['rows']} tiles)",
+                f"<div class='tilegrid' style='grid-template-columns:repeat({m['columns']},1fr);"
+                f"width:{min(16, 2 * m['columns'])}em'>"]
+        for y in range(m["rows"]):
+            for x in range(m["columns"]):
+                unexpected = m["unexpected"].get((x, y), [])
+                expected = m["expected"].get((x, y), [])
+                names = unexpected or expected
+                kind = "unexpected" if unexpected else "expected" if expected else ""
+                title = f"tile {x},{y}" + (": " + "; ".join(names) if names else "")
+                grid.append(f"<div class='{kind}' data-tile='{x},{y}' "
+                            f"data-flags='{len(names)}' title='{html.escape(title)}'>"
+                            f"{len(names) if names else ''}</div>")
+        grid.append("</div></div>")
+        out.append("".join(grid))
+    out.append("</div>")
+    return "\n".join(out)
+
+
 def figure(path, caption):
     with open(path, "rb") as f:
         data = base64.b64encode(f.read()).decode("ascii")
@@ -214,12 +310,19 @@ def page(report, report_path, report_dir, out_dir, sections):
     runs = report.get("runs") or []
     comparisons = report.get("comparisons") or []
     title = f"pcbench: {report.get('suite', 'report')}"
-    body = [f"<h1>{html.escape(title)}</h1>", context_block(report, report_path),
-            summary_line(runs, comparisons), "<h2 id='runs-heading'>Runs</h2>",
+    answer = matrix_block(report)
+    maps = tile_maps_block(report)
+    if maps and not answer:
+        answer = "<h2 id='answer'>What this report found</h2>"
+    body = [f"<h1>{html.escape(title)}</h1>", summary_line(runs, comparisons), answer + maps,
+            "<h2 id='context'>Context</h2>", context_block(report, report_path),
+            "<h2 id='runs-heading'>Runs</h2>",
             runs_table(runs, report_dir, out_dir) if runs else "<p>No runs in this report.</p>",
             comparisons_table(comparisons), ratios_table(report.get("efficiency_ratios"))]
-    contents = [("runs-heading", "Runs")] + [(_anchor(h), h) for h, figures in sections if figures]
-    body.insert(3, "<p class='contents'>" + " · ".join(
+    contents = [("answer", "What this report found")] if answer else []
+    contents += [("context", "Context"), ("runs-heading", "Runs")]
+    contents += [(_anchor(h), h) for h, figures in sections if figures]
+    body.insert(1, "<p class='contents'>" + " · ".join(
         f"<a href='#{a}'>{html.escape(h)}</a>" for a, h in contents) + "</p>")
     for heading, figures in sections:
         if figures:

@@ -110,3 +110,52 @@ def scene_figure(scene, runs, report_dir, path):
             _blank(z_ax, "no z-map")
     fig.suptitle(scene, fontsize=9)
     return save(fig, path)
+
+
+def image_set_figure(report, report_dir, path):
+    """`verify --images`: the set's mean, its relative standard error and its z-map against what
+    it was tested with, the tiles that differ outlined in black on the z-map (the comparison's
+    tiles_differing, not its self-check's). Returns the path, or None when the report has no
+    image set."""
+    sets = report.get("image_sets")
+    if not isinstance(sets, dict):
+        return None
+    import matplotlib.patches as patches
+
+    files = sets.get("image_files") or {}
+    load = {k: read_exr(os.path.join(report_dir, files[k])) if files.get(k) else None
+            for k in ("mean", "stderr", "zmap")}
+    fig, axes = new_figure(3, width=3.0, height=2.9)
+    mean_ax, se_ax, z_ax = axes[0]
+    mean, stderr, z = load["mean"], load["stderr"], load["zmap"]
+    replicates = len(sets.get("files") or [])
+    if mean is not None:
+        _show(mean_ax, display(mean, float(np.percentile(mean, 99))),
+              f"mean of {replicates} replicates")
+    else:
+        _blank(mean_ax, "no mean image")
+    if mean is not None and stderr is not None and mean.shape == stderr.shape:
+        relative = np.mean(stderr / (np.abs(mean) + 0.01 * float(np.mean(np.abs(mean))) + 1e-30),
+                           axis=2)
+        shown = _show(se_ax, relative, "standard error / mean", cmap="magma", vmin=0.0,
+                      vmax=max(float(np.percentile(relative, 99)), 1e-12))
+        fig.colorbar(shown, ax=se_ax, fraction=0.046, pad=0.02)
+    else:
+        _blank(se_ax, "no standard error image")
+    against = sets.get("against") or {}
+    if z is not None:
+        shown = _show(z_ax, dominant_z(z), f"z against {against.get('kind', '?')}; "
+                      "tiles that differ outlined", cmap="coolwarm", vmin=-4.0, vmax=4.0)
+        fig.colorbar(shown, ax=z_ax, fraction=0.046, pad=0.02)
+        tile = sets.get("tile") or 8
+        for c in report.get("comparisons") or []:
+            if c.get("a") != "images":
+                continue
+            for x, y in {(x, y) for x, y, _ in c.get("tiles_differing") or []}:
+                z_ax.add_patch(patches.Rectangle((x * tile - 0.5, y * tile - 0.5), tile, tile,
+                                                 fill=False, edgecolor="black", linewidth=1.5))
+    else:
+        _blank(z_ax, "no z-map")
+    fig.suptitle(f"{sets.get('images')}: {replicates} replicates, "
+                 f"{sets.get('width')}×{sets.get('height')}", fontsize=8)
+    return save(fig, path)

@@ -22,7 +22,7 @@ try:
                                      has_series)
     from figure_style import EstimatorColours  # noqa: E402
     from html_page import page  # noqa: E402
-    from image_figures import scene_figure  # noqa: E402
+    from image_figures import image_set_figure, scene_figure  # noqa: E402
     from tile_calibration_figures import tile_calibration_figure  # noqa: E402
     from verification_figures import (calibration_qq_figure, has_tests,  # noqa: E402
                                       verification_figure)
@@ -79,6 +79,10 @@ def make_sections(report, report_dir, out_dir):
                             os.path.join(out_dir, f"scene_{slug(group)}.png"))
         if path:
             scenes.append((path, f"{group}: reference, estimate, relative error, z-map"))
+    image_set = image_set_figure(report, report_dir, os.path.join(out_dir, "image_set.png"))
+    if image_set:
+        scenes.append((image_set, "verify --images: the set's mean, its relative standard error "
+                                  "and its z-map, the tiles that differ outlined"))
     sections.append(("Scenes", scenes))
     return sections
 
