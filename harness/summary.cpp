@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <ostream>
 #include <string>
 
@@ -12,6 +13,8 @@ namespace pcbench {
 namespace {
 
 constexpr std::size_t kColumns = 9;
+// Beyond this many runs the table no longer shows the answer at a glance: a matrix follows it.
+constexpr std::size_t kMatrixAfterRows = 20;
 using Row = std::array<std::string, kColumns>;
 
 // Parameters as "k=v k=v": the pool size and draws always (they tell the rows of a grid
@@ -85,6 +88,95 @@ Row row_of(const RunRecord& record) {
           verdict};
 }
 
+// Equal-time efficiency: 1 / (relative MSE at one CPU second) for scene runs (their image
+// section), 1 / (variance × seconds per sample) otherwise; 0 when there is none.
+double efficiency_of(const RunRecord& record) {
+  if (record.image) {
+    const auto found = record.image->find("efficiency");
+    return found != record.image->end() && found->is_number() ? found->get<double>() : 0.0;
+  }
+  const double e = record.aggregates.efficiency;
+  return std::isfinite(e) && e > 0.0 ? e : 0.0;
+}
+
+std::string estimator_label(const RunRecord& record) {
+  const std::string params =
+      changed_params(record.plan->estimator->params, record.plan->estimator_params);
+  return record.plan->estimator->name + (params == "-" ? "" : " " + params);
+}
+
+std::string integrand_label(const RunRecord& record) {
+  const std::string params =
+      changed_params(record.plan->integrand->params, record.plan->integrand_params);
+  return record.plan->integrand->name + (params == "-" ? "" : " " + params);
+}
+
+// "ok 1.7x": the verdict (ok, BIASED, inconcl., or the status of a run without one; "!" when it
+// is not what was expected) and the efficiency relative to the column's baseline.
+std::string matrix_cell(const RunRecord& record, double baseline) {
+  std::string text = to_string(record.result.status);
+  if (record.verdict) {
+    const std::string& r = record.verdict->result;
+    text = r == "consistent" ? "ok" : r == "biased" ? "BIASED" : "inconcl.";
+    if (r != record.verdict->expect) text += "!";
+  }
+  const double e = efficiency_of(record);
+  if (baseline > 0.0 && e > 0.0) text += fmt::format(" {:.2g}x", e / baseline);
+  return text;
+}
+
+// The answer at a glance when the table is long: estimator × integrand, each cell the run's
+// verdict and its equal-time efficiency relative to the column's first run not expected biased
+// (the same matrix as the top of the page, results/plot/answer_view.py).
+void print_matrix(const std::vector<RunRecord>& records, std::ostream& out) {
+  std::vector<std::string> rows, columns;
+  std::map<std::string, double> baseline;
+  std::map<std::pair<std::string, std::string>, std::string> cells;
+  for (const RunRecord& record : records) {
+    const std::string column = integrand_label(record);
+    if (std::find(columns.begin(), columns.end(), column) == columns.end()) {
+      columns.push_back(column);
+    }
+    const bool honest = !record.verdict || record.verdict->expect != "biased";
+    if (!baseline.contains(column) && honest && efficiency_of(record) > 0.0) {
+      baseline[column] = efficiency_of(record);
+    }
+  }
+  for (const RunRecord& record : records) {
+    const std::string row = estimator_label(record);
+    if (std::find(rows.begin(), rows.end(), row) == rows.end()) rows.push_back(row);
+    const std::string column = integrand_label(record);
+    std::string& cell = cells[{row, column}];
+    if (!cell.empty()) cell += ", ";
+    cell += matrix_cell(record, baseline.contains(column) ? baseline[column] : 0.0);
+  }
+  std::size_t row_width = 0;
+  for (const std::string& row : rows) row_width = std::max(row_width, row.size());
+  std::vector<std::size_t> width;
+  for (const std::string& column : columns) {
+    std::size_t w = column.size();
+    for (const std::string& row : rows) w = std::max(w, cells[{row, column}].size());
+    width.push_back(w);
+  }
+  out << fmt::format(
+      "\nverdicts (ok, BIASED, inconcl.; ! not as expected) and equal-time "
+      "efficiency relative to the first honest run per column:\n");
+  std::string head(row_width, ' ');
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    head += "  " + columns[c] + std::string(width[c] - columns[c].size(), ' ');
+  }
+  out << head << "\n";
+  for (const std::string& row : rows) {
+    std::string line = row + std::string(row_width - row.size(), ' ');
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      const std::string& cell = cells[{row, columns[c]}];
+      line += "  " + (cell.empty() ? std::string("-") : cell) +
+              std::string(width[c] - std::max<std::size_t>(cell.size(), 1), ' ');
+    }
+    out << line << "\n";
+  }
+}
+
 }  // namespace
 
 void print_summary(const std::vector<RunRecord>& records, std::ostream& out) {
@@ -109,6 +201,7 @@ void print_summary(const std::vector<RunRecord>& records, std::ostream& out) {
     }
     out << line << "\n";
   }
+  if (records.size() > kMatrixAfterRows) print_matrix(records, out);
   // Rows that are not simply consistent say why.
   for (const RunRecord& record : records) {
     const Verdict* v = record.verdict ? &*record.verdict : nullptr;

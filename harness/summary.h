@@ -1,4 +1,5 @@
-// The table printed after every run: one row per run.
+// The table printed after every run: one row per run, and past 20 rows the estimator × integrand
+// matrix of verdicts and relative efficiencies.
 #pragma once
 
 #include <iosfwd>

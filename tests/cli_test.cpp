@@ -2,11 +2,13 @@
 // report numbers independent of the thread count.
 #include "harness/cli.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -183,6 +185,67 @@ TEST_F(CliInFolder, DefaultOutputFolderAndLatestLink) {
   ASSERT_EQ(again.status, 0);
   EXPECT_EQ(again.out.find("mean ± stderr"), std::string::npos);  // --quiet: no table
   EXPECT_EQ(files_under(folder() / "results" / "runs").size(), 2u);
+}
+
+// Past 20 runs the summary ends its table with the estimator × integrand matrix: each cell the
+// run's verdict and its efficiency relative to the column's first run not expected biased, as
+// the report has them; with fewer runs there is no matrix.
+TEST_F(CliInFolder, ManyRunsGetTheVerdictMatrix) {
+  const std::vector<std::string> estimators = {"plain", "pcbpt", "lvc", "vc-all",
+                                               "ctl-wrong-count"};
+  const std::vector<std::string> integrands = {"form-factor", "genz-gaussian", "genz-continuous",
+                                               "genz-corner-peak", "genz-oscillatory"};
+  const auto joined = [](const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ",") + n;
+    return out;
+  };
+  const CliResult r = cli({"run", "-e", joined(estimators), "-i", joined(integrands), "-n", "500",
+                           "-r", "4", "--out", "many"});
+  ASSERT_NE(r.status, 2) << r.err;
+  const nlohmann::json report = report_at("many");
+  ASSERT_EQ(report["runs"].size(), 25u);
+  const std::string header = "efficiency relative to the first honest run per column:\n";
+  const std::size_t start = r.out.find(header);
+  ASSERT_NE(start, std::string::npos) << r.out;
+  std::istringstream lines(r.out.substr(start + header.size()));
+  std::string head;
+  std::getline(lines, head);
+  std::map<std::string, std::size_t> column_at;  // integrand -> the cell's first character
+  for (const std::string& integrand : integrands) {
+    column_at[integrand] = head.find(" " + integrand) + 1;
+    ASSERT_NE(head.find(integrand), std::string::npos) << head;
+  }
+  std::map<std::string, std::string> row_of;  // estimator -> its line
+  for (std::string line; std::getline(lines, line) && !line.empty() && line[0] != ' ';) {
+    row_of[line.substr(0, line.find(' '))] = line;
+  }
+  ASSERT_EQ(row_of.size(), estimators.size()) << r.out;
+  std::map<std::string, double> baseline;
+  for (const auto& run : report["runs"]) {
+    const std::string integrand = run["integrand"];
+    if (!baseline.contains(integrand) && run["verdict"]["expect"] != "biased") {
+      baseline[integrand] = run["aggregates"]["efficiency"].get<double>();
+    }
+  }
+  for (const auto& run : report["runs"]) {
+    const std::string& line = row_of[run["estimator"].get<std::string>()];
+    const std::string integrand = run["integrand"];
+    std::istringstream cell(line.substr(column_at[integrand]));
+    std::string verdict, relative;
+    cell >> verdict >> relative;
+    const std::string result = run["verdict"]["result"];
+    const std::string word = result == "consistent" ? "ok"
+                             : result == "biased"   ? "BIASED"
+                                                    : "inconcl.";
+    EXPECT_EQ(verdict, word + (result == run["verdict"]["expect"] ? "" : "!")) << line;
+    EXPECT_EQ(relative, fmt::format("{:.2g}x", run["aggregates"]["efficiency"].get<double>() /
+                                                   baseline[integrand]))
+        << line;
+  }
+  const CliResult few =
+      cli({"run", "-e", "plain", "-i", "genz-gaussian", "-n", "500", "-r", "4", "--out", "few"});
+  EXPECT_EQ(few.out.find("efficiency relative to the first honest run"), std::string::npos);
 }
 
 // The numbers of a report, without timings and context: what must not depend on threads.
