@@ -90,8 +90,7 @@ TEST_F(CliVerify, EstimatesFromAFile) {
   EXPECT_EQ(cli({"verify", "--estimates", at("a.txt"), "--out", at("r3")}).status, 2);
   // Bad input leaves no folder behind: --out is made only after the estimates are read.
   EXPECT_FALSE(std::filesystem::exists(at("r3")));
-  EXPECT_EQ(cli({"verify", "--estimates", at("missing.txt"), "--reference", "1", "--out",
-                 at("r4")})
+  EXPECT_EQ(cli({"verify", "--estimates", at("missing.txt"), "--reference", "1", "--out", at("r4")})
                 .status,
             2);
   EXPECT_FALSE(std::filesystem::exists(at("r4")));
