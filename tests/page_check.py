@@ -7,7 +7,8 @@ Chromium (Debian's /usr/bin/chromium) is driven over the DevTools protocol on a 
 beyond Debian's packages is needed. Fails (exit 1) when the page logs a console error or throws,
 when an image does not decode, or when its table of runs differs from the report: the same run
 ids in the same order, each with the report's status and verdict; or when the answer at the top
-differs from the report: the verdict matrix must hold one cell per run, with its verdict and its
+differs from the report: the verdict matrix must hold a row per estimator (with its own
+parameters) and one cell per run, with its verdict and its
 efficiency relative to the first honest run on its integrand (recomputed here from the report),
 and the maps of tiles that differ must mark exactly the tiles the report's tile comparisons list.
 """
@@ -105,6 +106,7 @@ READ_PAGE = """JSON.stringify({
   matrix: [...document.querySelectorAll('#matrix td[data-run-id]')].map(td => ({
     id: td.dataset.runId, verdict: td.dataset.verdict, relative: td.dataset.relative,
     top: td.getBoundingClientRect().top + window.scrollY})),
+  matrixRows: document.querySelectorAll('#matrix tbody tr').length,
   runsTop: document.getElementById('runs-heading').getBoundingClientRect().top + window.scrollY,
   tiles: [...document.querySelectorAll('.tilemap')].map(m => ({
     integrand: m.dataset.integrand,
@@ -203,6 +205,12 @@ def matrix_problems(report, seen):
     cells = {c["id"]: c for c in seen["matrix"]}
     if sorted(cells) != sorted(r["id"] for r in runs) or len(seen["matrix"]) != len(runs):
         found.append(f"the matrix has {len(seen['matrix'])} cells for {len(runs)} runs")
+    # A row per estimator and its own parameters (not its integrand's: the columns hold those).
+    estimators = {(r["estimator"], json.dumps({k: v for k, v in (r.get("params") or {}).items()
+                                                if k not in (r.get("integrand_params") or {})},
+                                               sort_keys=True)) for r in runs}
+    if runs and seen["matrixRows"] != len(estimators):
+        found.append(f"the matrix has {seen['matrixRows']} rows for {len(estimators)} estimators")
     relative = expected_relative(report)
     for run in runs:
         cell = cells.get(run["id"])

@@ -23,11 +23,22 @@ def efficiency(run):
     return value if value is not None and value > 0 else None
 
 
+def estimator_labels(runs):
+    """report_view.labels on the estimator's own parameters: a run's params also hold its
+    integrand's (integrand_params), which the columns already tell apart."""
+    own = []
+    for run in runs:
+        integrand = report_view.integrand_params(run)
+        own.append(dict(run, params={k: v for k, v in (run.get("params") or {}).items()
+                                     if k not in integrand}))
+    return report_view.labels(own)
+
+
 def verdict_matrix(report):
     """(row labels, column names, {(row, column): [cell]}); a cell is a dict with the run's id,
     result, expect and relative efficiency (None where either efficiency is missing)."""
     runs = report.get("runs") or []
-    label_of = dict(zip((r["id"] for r in runs), report_view.labels(runs)))
+    label_of = dict(zip((r["id"] for r in runs), estimator_labels(runs)))
     rows, columns, cells = [], [], {}
     for column, members in report_view.by_integrand(runs).items():
         columns.append(column)
