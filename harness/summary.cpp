@@ -129,11 +129,23 @@ std::string matrix_cell(const RunRecord& record, double baseline) {
 // verdict and its equal-time efficiency relative to the column's first run not expected biased
 // (the same matrix as the top of the page, results/plot/answer_view.py).
 void print_matrix(const std::vector<RunRecord>& records, std::ostream& out) {
+  // A column is named by its integrand, and by its parameters only where another column has the
+  // same integrand (an expression's text would make the column as wide as the table).
+  std::map<std::string, std::vector<std::string>> labels_of;
+  for (const RunRecord& record : records) {
+    auto& labels = labels_of[record.plan->integrand->name];
+    const std::string label = integrand_label(record);
+    if (std::find(labels.begin(), labels.end(), label) == labels.end()) labels.push_back(label);
+  }
+  const auto column_of = [&](const RunRecord& record) {
+    const std::string& name = record.plan->integrand->name;
+    return labels_of[name].size() > 1 ? integrand_label(record) : name;
+  };
   std::vector<std::string> rows, columns;
   std::map<std::string, double> baseline;
   std::map<std::pair<std::string, std::string>, std::string> cells;
   for (const RunRecord& record : records) {
-    const std::string column = integrand_label(record);
+    const std::string column = column_of(record);
     if (std::find(columns.begin(), columns.end(), column) == columns.end()) {
       columns.push_back(column);
     }
@@ -145,7 +157,7 @@ void print_matrix(const std::vector<RunRecord>& records, std::ostream& out) {
   for (const RunRecord& record : records) {
     const std::string row = estimator_label(record);
     if (std::find(rows.begin(), rows.end(), row) == rows.end()) rows.push_back(row);
-    const std::string column = integrand_label(record);
+    const std::string column = column_of(record);
     std::string& cell = cells[{row, column}];
     if (!cell.empty()) cell += ", ";
     cell += matrix_cell(record, baseline.contains(column) ? baseline[column] : 0.0);
