@@ -34,7 +34,7 @@ figcaption { font-size: 0.8em; color: #555; }
 table.matrix td.cell { color: white; text-align: center; min-width: 4.5em; font-weight: bold; }
 table.matrix td.cell.unexpected { outline: 3px solid #000; outline-offset: -3px; }
 table.matrix td.empty { background: #fafafa; }
-table.matrix th.row { text-align: right; position: static; }
+table.matrix th.row { text-align: right; position: static; white-space: nowrap; }
 .legend span { display: inline-block; margin-right: 1em; font-size: 0.8em; }
 .legend i { display: inline-block; width: 0.9em; height: 0.9em; margin-right: 0.3em;
             vertical-align: middle; }
