@@ -22,11 +22,11 @@
 #include <string>
 #include <vector>
 
-#include "harness/params.h"
-#include "harness/plan.h"
-#include "harness/rng.h"
-#include "harness/runner.h"
-#include "harness/statistics.h"
+#include "base/params.h"
+#include "base/rng.h"
+#include "harness/plan/plan.h"
+#include "harness/run/runner.h"
+#include "harness/verify/statistics.h"
 #include "integrands/blocker.h"
 #include "integrands/door.h"
 #include "integrands/door_2d.h"
