@@ -1,0 +1,137 @@
+#!/usr/bin/python3
+"""Over MPI ranks, pcbench writes the report and images one process writes, bit for bit.
+
+Usage (ctest test `mpi.ranks`):
+    /usr/bin/python3 tests/mpi_check.py PATH/TO/pcbench PATH/TO/pcbench_exr_pixel_hash
+
+Runs one small `verify` suite (analytic runs with an uneven number of replicates, an invalid
+run, scene runs with strategy and replicate images, an escalated run, pairwise and tile
+comparisons: one Holm family) in one process and under `mpirun -np 2` and `-np 3
+--oversubscribe` (harness/replicate_farm.h). The reports must agree in every field but the
+timings and the context, the images pixel for pixel. Also: an equal-time run on 3 ranks takes
+its budget from rank 0's pilot, and that budget as --samples in one process gives its numbers; `pcbench reference` over 2 ranks stores
+the image one process stores; bad input under mpirun exits 2 and writes nothing. Prints one line
+per check and ends with "N passed, M failed".
+"""
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from check_log import check, summary  # noqa: E402
+from report_diff import differences  # noqa: E402
+
+SUITE = {
+    "name": "mpi-check", "compare": "pairwise",
+    "defaults": {"samples": 4000, "replicates": 7, "seed": 5},
+    "runs": [
+        {"estimator": "plain", "integrand": "genz-gaussian"},
+        {"estimator": "pcbpt", "integrand": "genz-gaussian", "params": {"M": 8}},
+        {"estimator": "plain", "integrand": "expr", "params": {"f": "sqrt(x0 - 0.001)"}},
+        {"estimator": "plain", "integrand": "furnace", "params": {"resolution": 8},
+         "samples": 8, "replicates": 5},
+        {"estimator": "pt", "integrand": "furnace", "params": {"resolution": 8},
+         "samples": 8, "replicates": 5},
+        # Too few effective samples: escalated (4x, 16x) after the first stage.
+        {"estimator": "plain", "integrand": "narrow-peak", "samples": 2000,
+         "expect": "inconclusive"},
+    ],
+}
+
+
+def mpirun(ranks):
+    command = ["mpirun", "-np", str(ranks), "--oversubscribe"]
+    return command + (["--allow-run-as-root"] if os.geteuid() == 0 else [])
+
+
+def run(command, cwd):
+    proc = subprocess.run(command, cwd=cwd, capture_output=True, encoding="utf-8", timeout=300)
+    return proc.returncode, proc.stdout + proc.stderr
+
+
+def pixel_hashes(hasher, folder):
+    names = sorted(n for n in os.listdir(folder) if n.endswith(".exr"))
+    if not names:
+        return {}
+    out = subprocess.run([hasher] + names, cwd=folder, capture_output=True, encoding="utf-8",
+                         check=True).stdout
+    return dict(reversed(line.split()) for line in out.splitlines())
+
+
+def load(path):
+    with open(path, encoding="utf-8") as f:
+        return json.load(f)
+
+
+def without_context(report):
+    return {k: v for k, v in report.items() if k != "context"}
+
+
+def main():
+    binary = os.path.abspath(sys.argv[1])
+    hasher = os.path.abspath(sys.argv[2])
+    with tempfile.TemporaryDirectory(prefix="pcbench-mpi-") as tmp:
+        with open(os.path.join(tmp, "suite.json"), "w", encoding="utf-8") as f:
+            json.dump(SUITE, f)
+        command = [binary, "verify", "suite.json", "--strategy-images", "--replicate-images"]
+        one_status, out = run(command + ["-t", "2", "--out", "one"], tmp)
+        check(one_status == 3, "one process: exit 3 (one run has non-finite samples)", out)
+        one = load(os.path.join(tmp, "one", "report.json"))
+        one_images = pixel_hashes(hasher, os.path.join(tmp, "one", "images"))
+        stages = [len(r["escalation"]) for r in one["runs"] if r["integrand"] == "narrow-peak"]
+        check(stages == [2], "one process: narrow-peak escalated twice", str(stages))
+        check(len(one_images) > 10, "one process: scene images written", str(len(one_images)))
+
+        for ranks in (2, 3):
+            name = "np%d" % ranks
+            status, out = run(mpirun(ranks) + command + ["-t", "1", "--out", name], tmp)
+            check(status == one_status, "%s: exit %d as one process" % (name, status), out[-2000:])
+            report = load(os.path.join(tmp, name, "report.json"))
+            diff = differences(without_context(one), without_context(report))
+            check(not diff, "%s: the report one process writes, but timings" % name,
+                  "; ".join(diff[:5]))
+            images = pixel_hashes(hasher, os.path.join(tmp, name, "images"))
+            check(images == one_images, "%s: the same %d images, pixel for pixel" %
+                  (name, len(images)), str(set(images.items()) ^ set(one_images.items()))[:300])
+
+        # Equal time: rank 0's pilot chooses the budget (as one process's pilot would, from its
+        # own measurement); that budget as --samples in one process gives the same numbers.
+        lvc = ["--estimator", "lvc", "--integrand", "genz-gaussian", "-r", "7", "--seed", "5",
+               "--quiet"]
+        status, out = run(mpirun(3) + [binary, "run"] + lvc + ["--seconds", "0.02", "-t", "1",
+                                                              "--out", "timed"], tmp)
+        timed = load(os.path.join(tmp, "timed", "report.json"))["runs"][0]
+        status, out = run([binary, "run"] + lvc + ["--samples", str(timed["samples"]), "--out",
+                                                  "given"], tmp)
+        given = load(os.path.join(tmp, "given", "report.json"))["runs"][0]
+        check(timed["budget"]["pilot_samples"] > 0 and [r["estimate"] for r in timed["replicates"]]
+              == [r["estimate"] for r in given["replicates"]],
+              "equal time on 3 ranks: the pilot's budget (%d samples) as --samples gives the same "
+              "estimates" % timed["samples"])
+
+        # pcbench reference over 2 ranks: the same converged image in the cache.
+        reference = [binary, "reference", "--integrand", "furnace", "--param", "resolution=8",
+                     "-n", "8", "-r", "5", "-t", "1"]
+        status_one, out_one = run(reference + ["--reference-cache", "ref-one"], tmp)
+        status_mpi, out_mpi = run(mpirun(2) + reference + ["--reference-cache", "ref-mpi"], tmp)
+        check(status_one == 0 and status_mpi == 0, "reference: rendered in one process and on 2 "
+              "ranks", out_one[-500:] + out_mpi[-500:])
+        ref_one = pixel_hashes(hasher, os.path.join(tmp, "ref-one"))
+        ref_mpi = pixel_hashes(hasher, os.path.join(tmp, "ref-mpi"))
+        check(ref_one and ref_one == ref_mpi, "reference: the same image, pixel for pixel",
+              str(ref_one) + " vs " + str(ref_mpi))
+
+        # Bad input: rank 0 says so once, every rank stops, nothing is written.
+        status, out = run(mpirun(2) + [binary, "verify", "suite.json", "--estimator", "plain",
+                                       "--out", "bad"], tmp)
+        check(status == 2 and out.count("give a suite file or --estimator") == 1
+              and not os.path.exists(os.path.join(tmp, "bad")),
+              "bad input on 2 ranks: exit 2, said once, nothing written", out[-800:])
+    return summary()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
