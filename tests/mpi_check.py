@@ -16,6 +16,7 @@ per check and ends with "N passed, M failed".
 
 import json
 import os
+import signal
 import subprocess
 import sys
 import tempfile
@@ -59,6 +60,52 @@ def pixel_hashes(hasher, folder):
     out = subprocess.run([hasher] + names, cwd=folder, capture_output=True, encoding="utf-8",
                          check=True).stdout
     return dict(reversed(line.split()) for line in out.splitlines())
+
+
+# The kill-and-resume suite: a rank is killed during its slow run; the finished ones are in rank
+# 0's journal.
+KILL_SUITE = {
+    "name": "mpi-kill", "defaults": {"samples": 4000, "replicates": 6, "seed": 7},
+    "runs": [
+        {"estimator": "plain", "integrand": "genz-gaussian"},
+        {"estimator": "pt", "integrand": "furnace", "params": {"resolution": 8}, "samples": 8},
+        {"estimator": "plain", "integrand": "genz-oscillatory", "samples": 1500000},
+        {"estimator": "lvc", "integrand": "genz-gaussian"},
+    ],
+}
+BEFORE_SLOW = "[2/4] pt × furnace"
+
+
+def rank_pids(launcher):
+    """The ranks mpirun started, by rank (from their environment)."""
+    out = {}
+    for pid in os.listdir("/proc"):
+        try:
+            with open("/proc/%s/stat" % pid, encoding="utf-8") as f:
+                parent = int(f.read().rsplit(")", 1)[1].split()[1])
+            if parent != launcher:
+                continue
+            with open("/proc/%s/environ" % pid, "rb") as f:
+                for item in f.read().split(b"\0"):
+                    if item.startswith(b"OMPI_COMM_WORLD_RANK="):
+                        out[int(item.split(b"=")[1])] = int(pid)
+        except (OSError, ValueError, IndexError):
+            continue
+    return out
+
+
+def kill_a_rank_during_slow_run(command, cwd):
+    """Starts the job and kills rank 2 as the slow run starts; returns status and output."""
+    proc = subprocess.Popen(command, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            encoding="utf-8")
+    seen = []
+    for line in proc.stdout:
+        seen.append(line)
+        if line.startswith(BEFORE_SLOW):
+            os.kill(rank_pids(proc.pid)[2], signal.SIGKILL)
+            break
+    rest, _ = proc.communicate(timeout=300)
+    return proc.returncode, "".join(seen) + rest
 
 
 def load(path):
@@ -123,6 +170,29 @@ def main():
         ref_mpi = pixel_hashes(hasher, os.path.join(tmp, "ref-mpi"))
         check(ref_one and ref_one == ref_mpi, "reference: the same image, pixel for pixel",
               str(ref_one) + " vs " + str(ref_mpi))
+
+        # A rank killed mid-job stops the job, saying which; --resume finishes it on another
+        # number of ranks with the report one process writes.
+        with open(os.path.join(tmp, "kill.json"), "w", encoding="utf-8") as f:
+            json.dump(KILL_SUITE, f)
+        kill = [binary, "verify", "kill.json"]
+        status, out = run(kill + ["-t", "2", "--out", "kill-one"], tmp)
+        status, out = kill_a_rank_during_slow_run(mpirun(3) + kill + ["-t", "1", "--out", "killed"],
+                                                  tmp)
+        check(status != 0 and "rank 2" in out and "signal 9" in out,
+              "a rank killed mid-job: the job stops naming it (exit %d)" % status, out[-1500:])
+        saved = [n for n in os.listdir(os.path.join(tmp, "killed", "checkpoint"))
+                 if n != "session.json" and n.endswith(".json")]
+        check(len(saved) == 2, "a rank killed mid-job: the 2 runs before it are saved", str(saved))
+        status, out = run(mpirun(2) + kill + ["-t", "1", "--out", "killed", "--resume"], tmp)
+        check(status == 0 and out.count("restored from") == 2,
+              "resumed on 2 ranks: the 2 saved runs restored", out[-1500:])
+        diff = differences(without_context(load(os.path.join(tmp, "kill-one", "report.json"))),
+                           without_context(load(os.path.join(tmp, "killed", "report.json"))))
+        check(not diff, "resumed on 2 ranks: the report one process writes", "; ".join(diff[:5]))
+        check(pixel_hashes(hasher, os.path.join(tmp, "kill-one", "images"))
+              == pixel_hashes(hasher, os.path.join(tmp, "killed", "images")),
+              "resumed on 2 ranks: the same images")
 
         # Bad input: rank 0 says so once, every rank stops, nothing is written.
         status, out = run(mpirun(2) + [binary, "verify", "suite.json", "--estimator", "plain",
