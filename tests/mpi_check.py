@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """Over MPI ranks, pcbench writes the report and images one process writes, bit for bit.
 
-Usage (ctest test `mpi.ranks`):
-    /usr/bin/python3 tests/mpi_check.py PATH/TO/pcbench PATH/TO/pcbench_exr_pixel_hash
+Usage (ctest tests `mpi.ranks` and `mpi.door_ajar`):
+    /usr/bin/python3 tests/mpi_check.py PATH/TO/pcbench PATH/TO/pcbench_exr_pixel_hash [SUITE]
 
 Runs one small `verify` suite (analytic runs with an uneven number of replicates, an invalid
 run, scene runs with strategy and replicate images, an escalated run, pairwise and tile
@@ -10,8 +10,9 @@ comparisons: one Holm family) in one process and under `mpirun -np 2` and `-np 3
 --oversubscribe` (harness/replicate_farm.h). The reports must agree in every field but the
 timings and the context, the images pixel for pixel. Also: an equal-time run on 3 ranks takes
 its budget from rank 0's pilot, and that budget as --samples in one process gives its numbers; `pcbench reference` over 2 ranks stores
-the image one process stores; bad input under mpirun exits 2 and writes nothing. Prints one line
-per check and ends with "N passed, M failed".
+the image one process stores; bad input under mpirun exits 2 and writes nothing. With SUITE (suites/door-ajar-power-ci.json,
+the CI size of the door-ajar cluster job), only that suite under `verify`, on 2 ranks against one
+process. Prints one line per check and ends with "N passed, M failed".
 """
 
 import json
@@ -117,9 +118,28 @@ def without_context(report):
     return {k: v for k, v in report.items() if k != "context"}
 
 
+def same_as_one_process(binary, hasher, suite, ranks):
+    """`verify SUITE` on `ranks` ranks against one process: exit status, report, images."""
+    with tempfile.TemporaryDirectory(prefix="pcbench-mpi-") as tmp:
+        command = [binary, "verify", suite, "--quiet"]
+        one_status, out = run(command + ["-t", "2", "--out", "one"], tmp)
+        check(one_status == 0, "%s in one process: exit 0" % os.path.basename(suite), out)
+        status, out = run(mpirun(ranks) + command + ["-t", "1", "--out", "ranks"], tmp)
+        check(status == one_status, "on %d ranks: exit %d as one process" % (ranks, status), out)
+        diff = differences(without_context(load(os.path.join(tmp, "one", "report.json"))),
+                           without_context(load(os.path.join(tmp, "ranks", "report.json"))))
+        check(not diff, "on %d ranks: the report one process writes" % ranks, "; ".join(diff[:5]))
+        images = pixel_hashes(hasher, os.path.join(tmp, "one", "images"))
+        check(images and images == pixel_hashes(hasher, os.path.join(tmp, "ranks", "images")),
+              "on %d ranks: the same %d images, pixel for pixel" % (ranks, len(images)))
+    return summary()
+
+
 def main():
     binary = os.path.abspath(sys.argv[1])
     hasher = os.path.abspath(sys.argv[2])
+    if len(sys.argv) > 3:
+        return same_as_one_process(binary, hasher, os.path.abspath(sys.argv[3]), 2)
     with tempfile.TemporaryDirectory(prefix="pcbench-mpi-") as tmp:
         with open(os.path.join(tmp, "suite.json"), "w", encoding="utf-8") as f:
             json.dump(SUITE, f)
