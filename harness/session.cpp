@@ -449,6 +449,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     if (options.resume) {
       context.restored_runs = store->restored();
     }
+    if (options.farm != nullptr) context.ranks = rank_count();
     report_path = publish_report(report_json(context, options.suite_name, records, sections),
                                  options, folder, err);
   } catch (const std::exception& e) {

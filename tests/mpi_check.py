@@ -22,9 +22,16 @@ import subprocess
 import sys
 import tempfile
 
+from jsonschema import validators
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from check_log import check, summary  # noqa: E402
 from report_diff import differences  # noqa: E402
+
+with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "results",
+                       "report.schema.json"), encoding="utf-8") as schema_file:
+    SCHEMA = json.load(schema_file)
+VALIDATOR = validators.validator_for(SCHEMA)(SCHEMA)
 
 SUITE = {
     "name": "mpi-check", "compare": "pairwise",
@@ -157,6 +164,11 @@ def main():
             status, out = run(mpirun(ranks) + command + ["-t", "1", "--out", name], tmp)
             check(status == one_status, "%s: exit %d as one process" % (name, status), out[-2000:])
             report = load(os.path.join(tmp, name, "report.json"))
+            check(report["context"].get("mpi_ranks") == ranks and "mpi_ranks" not in one["context"],
+                  "%s: context.mpi_ranks is %d (absent in one process)" % (name, ranks))
+            errors = list(VALIDATOR.iter_errors(report))
+            check(not errors, "%s: the report validates" % name,
+                  errors[0].message if errors else "")
             diff = differences(without_context(one), without_context(report))
             check(not diff, "%s: the report one process writes, but timings" % name,
                   "; ".join(diff[:5]))
