@@ -7,7 +7,7 @@ Usage (ctest tests `mpi.ranks` and `mpi.door_ajar`):
 Runs one small `verify` suite (analytic runs with an uneven number of replicates, an invalid
 run, scene runs with strategy and replicate images, an escalated run, pairwise and tile
 comparisons: one Holm family) in one process and under `mpirun -np 2` and `-np 3
---oversubscribe` (harness/replicate_farm.h). The reports must agree in every field but the
+--oversubscribe` (harness/run/replicate_farm.h). The reports must agree in every field but the
 timings and the context, the images pixel for pixel. Also: an equal-time run on 3 ranks takes
 its budget from rank 0's pilot, and that budget as --samples in one process gives its numbers; `pcbench reference` over 2 ranks stores
 the image one process stores; bad input under mpirun exits 2 and writes nothing. With SUITE (suites/door-ajar-power-ci.json,

@@ -5,7 +5,7 @@ Usage (ctest test `cli.shards`):
     /usr/bin/python3 tests/shard_check.py PATH/TO/pcbench PATH/TO/pcbench_exr_pixel_hash
 
 Runs one small `verify` suite (analytic and scene runs, an escalated run, pairwise and tile
-comparisons) in one process and as 3 shards (`--shard i/3`, harness/shard.h); merging two of
+comparisons) in one process and as 3 shards (`--shard i/3`, harness/session/shard.h); merging two of
 them names the missing one, exits 2 and writes nothing; running it and merging again gives the
 one-process report (every field but timings and context) and its images pixel for pixel. Also
 bad --shard values and shards of different jobs are bad input. Prints one line per check and

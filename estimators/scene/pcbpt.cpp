@@ -23,11 +23,11 @@
 #include <algorithm>
 #include <vector>
 
+#include "base/errors.h"
 #include "estimators/discrete_sampler.h"
 #include "estimators/resampling_step.h"
 #include "estimators/scene/scene_estimators.h"
 #include "estimators/scene/vertex_draws.h"
-#include "harness/errors.h"
 
 namespace pcbench {
 namespace scene {
