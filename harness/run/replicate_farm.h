@@ -11,8 +11,8 @@
 // replicate order with append_part, as interleaved runs do: no sum is ever formed in another
 // order, and no MPI reduction touches a number.
 //
-// harness/run/replicate_farm_mpi.cpp implements it with MPI; a build without MPI (PCBENCH_MPI off) has
-// harness/run/replicate_farm_none.cpp, where there is always one rank and no farm.
+// harness/run/replicate_farm_mpi.cpp implements it with MPI; a build without MPI (PCBENCH_MPI off)
+// has harness/run/replicate_farm_none.cpp, where there is always one rank and no farm.
 #pragma once
 
 #include <atomic>

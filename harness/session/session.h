@@ -67,8 +67,8 @@ struct SessionOptions {
   // Rank 0 of an MPI job: the runs' replicates are computed over all ranks (pilots and
   // interleaved runs stay on rank 0); null in one process.
   ReplicateFarm* farm = nullptr;
-  // A `--shard` run (harness/session/shard.h): the runs are saved to the journal and kept there, and
-  // nothing is tested or reported (`pcbench merge` does both for all shards).
+  // A `--shard` run (harness/session/shard.h): the runs are saved to the journal and kept there,
+  // and nothing is tested or reported (`pcbench merge` does both for all shards).
   bool journal_only = false;
 };
 
