@@ -25,6 +25,9 @@ struct Context {
   // --resume: how many of the report's runs were restored from the interrupted session's
   // checkpoints (their timings are that session's).
   std::optional<std::uint64_t> restored_runs = {};
+  // Under MPI (harness/run/replicate_farm.h): the ranks that computed the replicates; `threads` is
+  // rank 0's, and `host` and `cpu` are rank 0's machine.
+  std::optional<int> ranks = {};
 };
 
 Context gather_context(std::vector<std::string> argv, std::uint64_t seed, unsigned threads);

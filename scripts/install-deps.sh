@@ -11,6 +11,7 @@ packages=(
   python3 python3-jsonschema python3-matplotlib python3-openimageio
   chromium
   clang libclang-rt-14-dev
+  libopenmpi-dev openmpi-bin
 )
 
 missing=()

@@ -70,9 +70,12 @@ def main():
     report = json.load(open(args.pilot))
     suite = json.load(open(args.suite))
     runs = {r["id"]: r for r in report["runs"]}
-    pilot_samples = {r["samples"] for r in report["runs"]}
+    # The runs of the honest comparisons (negative controls may keep their own budget).
+    fitted = {c[k] for c in report["comparisons"] if c["test"] == "tile-welch-holm"
+              and c["expect"] == "consistent" for k in ("a", "b") if c[k] in runs}
+    pilot_samples = {runs[i]["samples"] for i in fitted}
     if len(pilot_samples) != 1:
-        sys.exit("scene-power-budget: the pilot's runs must share one budget")
+        sys.exit("scene-power-budget: the pilot's honest runs must share one budget")
     pilot = pilot_samples.pop()
 
     scenes = {}

@@ -27,13 +27,7 @@ from jsonschema import validators
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from check_log import check, summary  # noqa: E402
-
-TIMING = {"seconds", "cpu_seconds", "wall_seconds", "seconds_per_sample", "efficiency",
-          "efficiency_low", "efficiency_high", "pilot_cpu_seconds_per_sample",
-          "rays_per_cpu_second", "cpu_seconds_per_replicate", "rel_mse_at_1_cpu_second"}
-# An efficiency ratio's cost factor, and with it the ratio, is measured time too (its variance
-# factor is not).
-RATIO_TIMING = {"ratio", "low", "high", "cost_ratio", "cost_low", "cost_high"}
+from report_diff import differences, same_images  # noqa: E402
 
 SUITE = {
     "name": "resume-check", "compare": "pairwise",
@@ -63,24 +57,6 @@ RESTORED = 6  # the runs before the slow one
 
 
 
-def differences(a, b, path="", out=None):
-    out = [] if out is None else out
-    if isinstance(a, dict) and isinstance(b, dict):
-        for key in sorted(set(a) | set(b)):
-            if key in TIMING or (path.startswith("/efficiency_ratios/") and key in RATIO_TIMING):
-                continue
-            if key not in a or key not in b:
-                out.append("%s/%s only in one report" % (path, key))
-            else:
-                differences(a[key], b[key], "%s/%s" % (path, key), out)
-    elif isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
-        for i, (x, y) in enumerate(zip(a, b)):
-            differences(x, y, "%s/%d" % (path, i), out)
-    elif a != b:
-        out.append("%s: %s vs %s" % (path, json.dumps(a)[:80], json.dumps(b)[:80]))
-    return out
-
-
 def run(binary, args, cwd):
     proc = subprocess.run([binary] + args, cwd=cwd, capture_output=True, encoding="utf-8",
                           timeout=300)
@@ -106,13 +82,6 @@ def files_with_times(folder):
             path = os.path.join(root, name)
             out[os.path.relpath(path, folder)] = os.stat(path).st_mtime_ns
     return out
-
-
-def same_images(a, b):
-    names = sorted(os.listdir(os.path.join(a, "images")))
-    return names == sorted(os.listdir(os.path.join(b, "images"))) and all(
-        open(os.path.join(a, "images", n), "rb").read()
-        == open(os.path.join(b, "images", n), "rb").read() for n in names)
 
 
 def main():

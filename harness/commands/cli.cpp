@@ -23,7 +23,9 @@
 #include "harness/plan/plan.h"
 #include "harness/plan/suite_file.h"
 #include "harness/run/replay.h"
+#include "harness/run/replicate_farm.h"
 #include "harness/session/session.h"
+#include "harness/session/shard.h"
 #include "results/context.h"
 
 namespace pcbench {
@@ -45,6 +47,7 @@ struct RunArguments {
   bool strategy_images = false;
   bool replicate_images = false;
   bool resume = false;
+  std::string shard;  // --shard i/n
   std::string reference_cache = kDefaultReferenceCache;
   // verify only
   bool verify = false;
@@ -205,6 +208,10 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
         "command line: --resume continues an interrupted run or verify of a suite or selection; "
         "it takes no --exact or --estimates (they are not saved as they go)");
   }
+  // Other ranks of an MPI job take no part in verifying files (harness/run/replicate_farm.h).
+  if (this_rank() != 0 && (!args.images.images.empty() || !args.external.estimates.empty())) {
+    return kExitOk;
+  }
   if (!args.images.images.empty()) {
     const bool selection = !args.estimators.empty() || !args.integrands.empty() ||
                            !args.params.empty() || !args.suite_path.empty() || args.exact ||
@@ -287,7 +294,22 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
   }
   if (run_app.count("--replicates")) budget.forced_replicates = args.replicates;
 
+  std::optional<Shard> shard;
+  if (run_app.count("--shard")) {
+    shard = parse_shard(args.shard);
+    if (run_app.count("--out") == 0 || args.exact) {
+      throw InputError(
+          "command line: --shard needs --out DIR (the folder `pcbench merge` reads) and takes no "
+          "--exact");
+    }
+  }
   const std::vector<RunPlan> plans = plan_runs(grids, budget);
+  if (this_rank() != 0) {
+    // Another rank of an MPI job: only its share of rank 0's runs (--exact runs on rank 0).
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
+    return args.exact ? kExitOk : serve_replicates(plans, interrupted);
+  }
+  session.farm = replicate_farm(plans);
   // Checked before anything is written: a journal of another seed or suite is bad input.
   if (args.resume) {
     session.resume =
@@ -297,6 +319,14 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
 
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
   if (args.exact) return run_exact_session(plans, session, out, err);
+  if (shard) {
+    if (!session.resume) {
+      session.resume = std::make_shared<RunStore>(
+          RunStore::start(args.out_dir, session.seed, session.suite_name, plans, err));
+    }
+    return run_shard(plans, *shard, session, args.out_dir,
+                     shared_arguments({argv.begin() + 1, argv.end()}), out, err);
+  }
   return run_session(plans, session, out, err);
 }
 
@@ -370,6 +400,9 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_flag(
       "--resume", args.resume,
       "with --out DIR of an interrupted session: restore its finished runs, run the rest");
+  app->add_option("--shard", args.shard,
+                  "i/n: run share i (0 to n-1) of n of the planned runs into --out DIR's journal, "
+                  "no report; `pcbench merge` the n folders for it");
   add_reference_cache_option(app, args);
 }
 
@@ -405,10 +438,14 @@ int reference_command_line(RunArguments args, const std::vector<std::string>& ar
   budget.forced_replicates = args.replicates > 0 ? args.replicates : kDefaultReferenceReplicates;
   const std::vector<RunPlan> plans = plan_runs({grid}, budget);
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, thread_count(args));
-  return run_reference_command(
-      plans,
-      {.seed = args.seed, .cache = args.reference_cache, .argv = argv, .interrupted = interrupted},
-      out, err);
+  if (this_rank() != 0) return serve_replicates(plans, interrupted);
+  return run_reference_command(plans,
+                               {.seed = args.seed,
+                                .cache = args.reference_cache,
+                                .argv = argv,
+                                .interrupted = interrupted,
+                                .farm = replicate_farm(plans)},
+                               out, err);
 }
 
 // `pcbench replay`: one run's selection and budget, and the sample to evaluate.
@@ -640,6 +677,15 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       "relative MSE, equal time) of later scene runs");
   add_reference_options(reference, reference_args);
 
+  std::vector<std::string> merge_folders;
+  std::string merge_out;
+  CLI::App* merge = app.add_subcommand(
+      "merge",
+      "join the --out folders of the n `--shard i/n` runs of one job into the report (and "
+      "images) one process would have written");
+  merge->add_option("folders", merge_folders, "the shards' --out folders")->required();
+  merge->add_option("--out,-o", merge_out, "output folder of the report")->required();
+
   std::string plot_report;
   std::optional<std::string> plot_out;
   CLI::App* plot = app.add_subcommand(
@@ -688,6 +734,10 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
                                  session_options(compare_args, argv, interrupted), out, err);
     }
     if (replay->parsed()) return replay_command_line(replay_args, replay_request, *replay, out);
+    if (merge->parsed()) {
+      const std::vector<std::filesystem::path> folders(merge_folders.begin(), merge_folders.end());
+      return run_cli(merge_arguments(folders, merge_out), out, err, interrupted);
+    }
     if (reference->parsed()) {
       return reference_command_line(reference_args, argv, out, err, interrupted);
     }

@@ -52,8 +52,9 @@ int run_reference_command(const std::vector<RunPlan>& plans, const ReferenceOpti
     // even a run of the same estimator with the same budget and seed.
     RunPlan own = plan;
     own.id_hash = fnv1a(plan.id_hash, "reference-image");
+    const RunnerOptions runner{.seed = options.seed, .interrupted = options.interrupted};
     const RunResult result =
-        execute_scene_run(own, {.seed = options.seed, .interrupted = options.interrupted});
+        options.farm != nullptr ? options.farm->run(own, runner) : execute_scene_run(own, runner);
     if (result.status != RunStatus::kOk) {
       err << fmt::format("pcbench: {} × {}: no reference ({}{})\n", plan.estimator->name,
                          plan.integrand->name, to_string(result.status),

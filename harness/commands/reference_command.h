@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "harness/plan/plan.h"
+#include "harness/run/replicate_farm.h"
 
 namespace pcbench {
 
@@ -18,6 +19,7 @@ struct ReferenceOptions {
   std::filesystem::path cache;
   std::vector<std::string> argv;
   const std::atomic<bool>* interrupted = nullptr;
+  ReplicateFarm* farm = nullptr;  // rank 0 of an MPI job: the replicates over all ranks
 };
 
 // Renders each planned scene run and stores its mean and standard error unless the cache holds

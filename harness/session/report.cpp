@@ -57,6 +57,7 @@ Json context_json(const Context& c) {
                {"threads", c.threads},
                {"pcbench_version", c.version}};
   if (c.restored_runs) context["resumed"] = Json{{"restored_runs", *c.restored_runs}};
+  if (c.ranks) context["mpi_ranks"] = *c.ranks;
   return context;
 }
 

@@ -226,10 +226,12 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, R
   std::atomic<std::uint64_t>* samples_done =
       progress.run_started(fmt::format("{} × {}", plan.estimator->name, plan.integrand->name),
                            plan.samples * plan.replicates);
-  RunResult result = execute_run(plan, {.seed = options.seed,
-                                        .interrupted = options.interrupted,
-                                        .samples_done = samples_done,
-                                        .strategy_images = options.strategy_images});
+  const RunnerOptions runner{.seed = options.seed,
+                             .interrupted = options.interrupted,
+                             .samples_done = samples_done,
+                             .strategy_images = options.strategy_images};
+  RunResult result =
+      options.farm != nullptr ? options.farm->run(plan, runner) : execute_run(plan, runner);
   if (result.status == RunStatus::kNotRun) interrupted = true;
   RunRecord record = finished_record(plan, std::move(result), options, store, progress, err);
   progress.run_finished(outcome_of(record));
@@ -340,12 +342,13 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
           chosen_plans.back().samples * plan.replicates - plan.samples * plan.replicates, 0);
     }
   }
+  // The journal's runs are restored; the others run.
+  std::vector<const RunPlan*> pending;
+  for (const RunPlan* plan : to_run) {
+    if (store->find(plan->id) == nullptr) pending.push_back(plan);
+  }
   if (options.interleave) {
-    // The journal's runs are restored; the others run interleaved, then are saved.
-    std::vector<const RunPlan*> pending;
-    for (const RunPlan* plan : to_run) {
-      if (store->find(plan->id) == nullptr) pending.push_back(plan);
-    }
+    // Interleaved, then saved.
     std::vector<RunResult> results =
         execute_interleaved(pending,
                             {.seed = options.seed,
@@ -363,9 +366,18 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
       if (records.back().result.status == RunStatus::kNotRun) interrupted = true;
     }
   } else {
+    if (options.farm != nullptr) {
+      options.farm->announce(pending,
+                             {.seed = options.seed, .strategy_images = options.strategy_images});
+    }
     for (const RunPlan* plan : to_run) {
       records.push_back(execute_and_test(*plan, options, *store, interrupted, *progress, err));
     }
+  }
+
+  if (options.journal_only) {
+    progress.reset();
+    return interrupted ? kExitInterrupted : kExitOk;
   }
 
   // One family: the runs' tests and the pairwise comparisons, Holm at alpha (at alpha / 2 when
@@ -438,6 +450,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     if (options.resume) {
       context.restored_runs = store->restored();
     }
+    if (options.farm != nullptr) context.ranks = rank_count();
     report_path = publish_report(report_json(context, options.suite_name, records, sections),
                                  options, folder, err);
   } catch (const std::exception& e) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "harness/plan/plan.h"
+#include "harness/run/replicate_farm.h"
 #include "harness/run/run_store.h"
 #include "harness/verify/reference_cache.h"
 #include "harness/verify/statistics.h"
@@ -63,6 +64,12 @@ struct SessionOptions {
   // Converged scene images for the errors of scene runs (harness/verify/reference_cache.h); read
   // only.
   std::filesystem::path reference_cache = kDefaultReferenceCache;
+  // Rank 0 of an MPI job: the runs' replicates are computed over all ranks (pilots and
+  // interleaved runs stay on rank 0); null in one process.
+  ReplicateFarm* farm = nullptr;
+  // A `--shard` run (harness/session/shard.h): the runs are saved to the journal and kept there,
+  // and nothing is tested or reported (`pcbench merge` does both for all shards).
+  bool journal_only = false;
 };
 
 // Writes `report` atomically as report.json in the run folder (options.out_dir, or a new
