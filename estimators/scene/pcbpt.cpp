@@ -39,6 +39,7 @@
 
 #include "estimators/discrete_sampler.h"
 #include "estimators/resampling_step.h"
+#include "estimators/scene/cache_mixture.h"
 #include "estimators/scene/cache_points.h"
 #include "estimators/scene/scene_estimators.h"
 #include "estimators/scene/vertex_draws.h"
@@ -95,11 +96,11 @@ class ProbabilisticPass final : public ScenePass {
       return connect_drawn_vertices(services_, pool, vertices_, prefix, config_.draws,
                                     uniform_vertex_draw(vertices_.size(), m(), config_.draws));
     }
-    if (!has_pmf_[*cache]) return {};
+    const std::vector<double>& pmf = caches_at_[*cache].pmf;
+    if (pmf.empty()) return {};
     const double k = config_.draws;
     const double paths = m();
-    const std::vector<double>& pmf = pmf_[*cache];
-    const DiscreteSampler& sampler = sampler_[*cache];
+    const DiscreteSampler& sampler = caches_at_[*cache].sampler;
     return connect_drawn_vertices(services_, pool, vertices_, prefix, config_.draws,
                                   [&](RandomStream& draws) {
                                     const std::uint32_t index = sampler.draw(draws);
@@ -111,31 +112,21 @@ class ProbabilisticPass final : public ScenePass {
   std::uint32_t m() const { return config_.light_paths; }
 
   // K draws from the mixture of the nearest cache points' P and the uniform share, each
-  // weighted by the mixture's exact PMF.
+  // weighted by the mixture's exact PMF (cache_mixture.h).
   Rgb connect_from_mixture(const LightPool& pool, CameraPrefix& prefix) const {
     std::uint32_t near[kMaxNearest];
     const std::uint32_t found =
         nearest_->find(prefix.vertices.back().position, config_.nearest, near);
-    const double u = found == 0 ? 1.0 : config_.uniform_mix;
-    const auto n = static_cast<std::uint32_t>(vertices_.size());
-    const double uniform = 1.0 / n;
-    const double share = found == 0 ? 0.0 : (1.0 - u) / found;
+    const CacheMixture mixture(caches_at_, std::span<const std::uint32_t>(near, found),
+                               static_cast<std::uint32_t>(vertices_.size()), config_.uniform_mix);
     const double k = config_.draws;
     const double paths = m();
     return connect_drawn_vertices(
         services_, pool, vertices_, prefix, config_.draws, [&](RandomStream& draws) {
-          std::uint32_t index;
-          if (draws.uniform() < u) {
-            index = draws.uniform_index(n);
-          } else {
-            const std::uint32_t c = near[draws.uniform_index(found)];
-            index = has_pmf_[c] ? sampler_[c].draw(draws) : draws.uniform_index(n);
-          }
-          double p = u * uniform;
-          for (std::uint32_t j = 0; j < found; ++j) {
-            p += share * (has_pmf_[near[j]] ? pmf_[near[j]][index] : uniform);
-          }
-          return VertexDraw{index, 1.0 / (k * paths * p)};
+          const std::optional<std::uint32_t> index =
+              mixture.draw(draws, config_.unseen_tiles_draw_nothing);
+          if (!index) return VertexDraw{0, 0.0};
+          return VertexDraw{*index, 1.0 / (k * paths * mixture.pmf(*index))};
         });
   }
 
@@ -170,9 +161,7 @@ class ProbabilisticPass final : public ScenePass {
     const std::span<const CachePoint> points = caches_.points();
     const std::size_t caches = points.size();
     const auto n = static_cast<std::uint32_t>(vertices_.size());
-    pmf_.assign(caches, {});
-    sampler_.assign(caches, {});
-    has_pmf_.assign(caches, 0);
+    caches_at_.assign(caches, {});
     if (n == 0) return;
     // lookup=tile mixes the uniform share into each P; the nearest lookup mixes at draw time.
     const ResamplingStep step(
@@ -193,9 +182,8 @@ class ProbabilisticPass final : public ScenePass {
         // the control, whose tile then draws nothing (its bias).
         if (config_.nearest_lookup || config_.unseen_tiles_draw_nothing) return;
       }
-      step.build_pmf(PoolView{.importance = q}, pmf_[c]);
-      sampler_[c].build(pmf_[c], DiscreteSamplerKind::kAlias);
-      has_pmf_[c] = 1;
+      step.build_pmf(PoolView{.importance = q}, caches_at_[c].pmf);
+      caches_at_[c].sampler.build(caches_at_[c].pmf, DiscreteSamplerKind::kAlias);
     });
     for (const TraceCounters& c : cache_counters) counters.add(c);
   }
@@ -204,13 +192,10 @@ class ProbabilisticPass final : public ScenePass {
   PcbptConfig config_;
   CachePoints caches_;
   std::optional<NearestCachePoints> nearest_;
-  // Per iteration: the candidates and, per cache point, P over them and its sampler.
+  // Per iteration: the candidates and, per cache point, P over them and its sampler (none when it
+  // sees nothing, except under lookup=tile, which mixes zero with uniform).
   std::vector<LightVertexRef> vertices_;
-  std::vector<std::vector<double>> pmf_;
-  std::vector<DiscreteSampler> sampler_;
-  // One byte per cache point, not std::vector<bool>: they are built in parallel, and the bits of
-  // a vector<bool> share words, so two writes would race and one could be lost.
-  std::vector<std::uint8_t> has_pmf_;
+  std::vector<CacheDistribution> caches_at_;
 };
 
 class Probabilistic final : public SceneEstimator {
