@@ -34,7 +34,7 @@ SCENES = ["furnace", "cornell", "cornell-glossy", "door-ajar"]
 # pcbpt's legacy tile design (estimators/scene/pcbpt.h names each choice's legacy value): its
 # runs keep the ids, random streams and numbers they had before the published design.
 PCBPT_LEGACY = ["-p", "M=1024", "-p", "K=8", "-p", "uniform_mix=0.1", "-p", "cache=tile-first-hit",
-                "-p", "lookup=tile", "-p", "importance=connection", "-p", "floor=0",
+                "-p", "lookup=tile", "-p", "cache_importance=connection", "-p", "floor=0",
                 "-p", "light_tracing=M"]
 # Arguments after `pcbench run`; the grid's visibility and guide are read by pcbpt only.
 COMMANDS = {

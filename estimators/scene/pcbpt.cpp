@@ -20,14 +20,15 @@
 //
 // Every choice is a parameter (defaults: the published design; PcbptConfig, pcbpt.h, names the
 // legacy value of each): M (1024), K (3), uniform_mix u (0.25), cache every-depth|tile-first-hit,
-// grid (16), tile (8), lookup nearest|tile, Nc (3), guide first|all, importance light|connection,
-// visibility cache-point|ignored, floor (0.02), light_tracing pixels|M. The legacy values
-// (cache=tile-first-hit lookup=tile importance=connection floor=0 light_tracing=M with M=1024
-// K=8 uniform_mix=0.1 tile=8) are the tile design pcbench had before, bit for bit: one cache
-// point per tile at the first hit, its P mixed with uniform, deeper vertices uniform (guide=first).
-// Public sources of the defaults: cache points at every depth from a grid of about 1/16 of the
-// pixels per axis, K = 3, three nearest cache points and a uniform share of 0.25, importance
-// without the camera-side BSDF, occluded entries scaled by 0.02 (README, "Scene estimators").
+// grid (16), tile (8), lookup nearest|tile, Nc (3), guide first|all, cache_importance
+// light|connection, visibility cache-point|ignored, floor (0.02), light_tracing pixels|M. The
+// legacy values (cache=tile-first-hit lookup=tile cache_importance=connection floor=0
+// light_tracing=M with M=1024 K=8 uniform_mix=0.1 tile=8) are the tile design pcbench had before,
+// bit for bit: one cache point per tile at the first hit, its P mixed with uniform, deeper vertices
+// uniform (guide=first). Public sources of the defaults: cache points at every depth from a grid of
+// about 1/16 of the pixels per axis, K = 3, three nearest cache points and a uniform share of 0.25,
+// importance without the camera-side BSDF, occluded entries scaled by 0.02 (README, "pcbpt's
+// parameters").
 #include "estimators/scene/pcbpt.h"
 
 #include <oneapi/tbb/parallel_for.h>
@@ -281,7 +282,7 @@ std::vector<ParamSpec> pcbpt_params() {
            .description = "lookup=tile: a vertex deeper than its block's cache points draws "
                           "uniformly (first) or from the first hit's P (all)",
            .choices = {"first", "all"}},
-          choice_spec("importance", "light", {"light", "connection"}, "connection",
+          choice_spec("cache_importance", "light", {"light", "connection"}, "connection",
                       "a light vertex's importance at a cache point: its contribution without "
                       "the camera-side BSDF (light), or the whole connection value (connection)"),
           {.name = "visibility",
@@ -308,7 +309,7 @@ PcbptConfig read_config(const ResolvedParams& p) {
   c.nearest_lookup = p.text("lookup") == "nearest";
   c.nearest = static_cast<std::uint32_t>(p.integer("Nc"));
   c.guide_all = p.text("guide") == "all";
-  c.light_importance = p.text("importance") == "light";
+  c.light_importance = p.text("cache_importance") == "light";
   c.cache_visibility = p.text("visibility") == "cache-point";
   c.visibility_floor = p.real("floor");
   c.light_tracing_pixels = p.text("light_tracing") == "pixels";

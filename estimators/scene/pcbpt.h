@@ -1,7 +1,7 @@
 // Probabilistic connections (pcbpt.cpp), configurable for its ablations and its negative control
 // (ctl_scene_visible_only.cpp). The defaults are the published design; the comments name the
 // legacy value of each choice (the tile design pcbench had before: cache=tile-first-hit,
-// lookup=tile, importance=connection, visibility=ignored, light_tracing=M, M=1024, K=8,
+// lookup=tile, cache_importance=connection, visibility=ignored, light_tracing=M, M=1024, K=8,
 // uniform_mix=0.1, mis=balance), which reproduces that estimator bit for bit.
 #pragma once
 
@@ -33,8 +33,8 @@ struct PcbptConfig {
   // (guide=all), or uniformly (guide=first, legacy).
   bool guide_all = false;
   // Importance of light vertex x at cache point y: x's throughput × its BSDF (or emission)
-  // towards y × G(x, y), without the camera side (importance=light), or the whole unweighted
-  // connection value through the cache path (importance=connection, legacy).
+  // towards y × G(x, y), without the camera side (cache_importance=light), or the whole unweighted
+  // connection value through the cache path (cache_importance=connection, legacy).
   bool light_importance = true;
   // Visibility of x from y in the importance (one shadow ray per cache point and light vertex):
   // an occluded entry is scaled by `floor` (0: exact, only the uniform share keeps its support).
