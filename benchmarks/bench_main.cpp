@@ -5,13 +5,13 @@
 
 #include <numeric>
 
+#include "base/rng.h"
 #include "estimators/discrete_sampler.h"
 #include "estimators/registry.h"
 #include "estimators/resampling_step.h"
-#include "harness/plan.h"
-#include "harness/rng.h"
-#include "harness/runner.h"
-#include "harness/tally.h"
+#include "harness/plan/plan.h"
+#include "harness/run/runner.h"
+#include "harness/run/tally.h"
 #include "integrands/genz.h"
 #include "integrands/point_integrand.h"
 #include "integrands/registry.h"

@@ -23,9 +23,9 @@
 #include <string>
 #include <vector>
 
+#include "base/rng.h"
 #include "estimators/registry.h"
 #include "estimators/scene/render_replicate.h"
-#include "harness/rng.h"
 #include "integrands/scenes/built_in_scenes.h"
 #include "integrands/scenes/connection.h"
 #include "integrands/scenes/embree_scene.h"

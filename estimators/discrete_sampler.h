@@ -13,7 +13,7 @@
 #include <span>
 #include <vector>
 
-#include "harness/rng.h"
+#include "base/rng.h"
 
 namespace pcbench {
 

@@ -14,8 +14,8 @@
 #include <span>
 #include <vector>
 
+#include "base/rng.h"
 #include "estimators/discrete_sampler.h"
-#include "harness/rng.h"
 
 namespace pcbench {
 

@@ -5,7 +5,7 @@
 // xi_k from a PMF P(xi | y, X),
 //     <I> = 1/(M K) Σ_k f(x_xi_k, y) / (p(x_xi_k) p(y) P(xi_k | y, X)).
 // Estimators differ in M, K and P. They record P and the draws on request (tests read the
-// record); the exact check enumerates the resampling step itself (harness/exact_check.h).
+// record); the exact check enumerates the resampling step itself (harness/verify/exact_check.h).
 #pragma once
 
 #include <cstdint>
@@ -13,9 +13,9 @@
 #include <span>
 #include <vector>
 
+#include "base/rng.h"
 #include "estimators/discrete_sampler.h"
 #include "estimators/resampling_step.h"
-#include "harness/rng.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {

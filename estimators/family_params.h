@@ -3,8 +3,8 @@
 // negative controls.
 #pragma once
 
+#include "base/params.h"
 #include "estimators/resampling.h"
-#include "harness/params.h"
 
 namespace pcbench {
 

@@ -3,8 +3,8 @@
 #include <fmt/format.h>
 #include <cmath>
 
+#include "base/errors.h"
 #include "estimators/family_params.h"
-#include "harness/errors.h"
 
 namespace pcbench {
 namespace {

@@ -2,12 +2,12 @@
 
 #include <fmt/format.h>
 
+#include "base/errors.h"
+#include "base/nearest_name.h"
 #include "estimators/family_params.h"
 #include "estimators/negative_controls.h"
 #include "estimators/resampling.h"
 #include "estimators/scene/scene_estimators.h"
-#include "harness/errors.h"
-#include "harness/nearest_name.h"
 
 namespace pcbench {
 namespace {

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "base/params.h"
 #include "estimators/estimator.h"
 #include "estimators/scene/scene_form.h"
-#include "harness/params.h"
 
 namespace pcbench {
 

@@ -52,7 +52,7 @@ struct ResamplingConfig {
 };
 
 // The pools of a batch with everything the resampling step may need, as prepared for one part
-// of a batch: shared by the estimator and the exact check (harness/exact_check.h).
+// of a batch: shared by the estimator and the exact check (harness/verify/exact_check.h).
 struct PreparedPools {
   std::uint32_t samples = 0;
   std::uint32_t M = 0;

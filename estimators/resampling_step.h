@@ -5,7 +5,7 @@
 //
 // Keeping the step a pure function of the pool's numbers lets the exact check enumerate every
 // draw sequence with its probability and compare the expectation with connecting to all paths
-// (harness/exact_check.h), for the estimators and for the negative controls alike.
+// (harness/verify/exact_check.h), for the estimators and for the negative controls alike.
 //
 // A Flaw is a deliberate bug of a negative control (estimators/negative_controls.h). Each is a
 // mistake seen in practice; each breaks one condition of the unbiasedness proof.
@@ -17,9 +17,9 @@
 #include <span>
 #include <vector>
 
+#include "base/rng.h"
 #include "estimators/discrete_sampler.h"
 #include "estimators/draw_scheme.h"
-#include "harness/rng.h"
 
 namespace pcbench {
 

@@ -3,7 +3,7 @@
 // estimator").
 #include "estimators/registry.h"
 #include "examples/example_nee.h"
-#include "harness/entry_point.h"
+#include "harness/commands/entry_point.h"
 
 int main(int argc, char** argv) {
   pcbench::register_scene_estimator(pcbench::examples::example_nee_entry());

@@ -2,8 +2,8 @@
 #include <array>
 #include <string>
 
+#include "base/errors.h"
 #include "fuzz/fuzz_inputs.h"
-#include "harness/errors.h"
 #include "integrands/expression.h"
 #include "integrands/registry.h"
 

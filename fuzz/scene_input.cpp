@@ -2,8 +2,8 @@
 #include <fstream>
 #include <string>
 
+#include "base/errors.h"
 #include "fuzz/fuzz_inputs.h"
-#include "harness/errors.h"
 #include "integrands/scenes/scene.h"
 #include "integrands/scenes/scene_file.h"
 #include "integrands/scenes/scene_integrand.h"

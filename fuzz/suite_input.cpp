@@ -1,17 +1,17 @@
 // Suite text to run plans (fuzz/fuzz_inputs.h).
 #include <string>
 
+#include "base/errors.h"
 #include "fuzz/fuzz_inputs.h"
-#include "harness/errors.h"
-#include "harness/plan.h"
-#include "harness/suite_file.h"
+#include "harness/plan/plan.h"
+#include "harness/plan/suite_file.h"
 
 namespace pcbench::fuzz {
 
 Outcome check_suite_text(std::string_view text) {
   try {
     const SuiteRequest suite = parse_suite(std::string(text), "fuzz.json");
-    // The suite's defaults as `pcbench run SUITE` applies them (harness/cli.cpp), with no
+    // The suite's defaults as `pcbench run SUITE` applies them (harness/commands/cli.cpp), with no
     // command-line overrides.
     BudgetDefaults budget;
     if (suite.samples) budget.samples = *suite.samples;

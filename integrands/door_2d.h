@@ -29,7 +29,7 @@
 
 #include <vector>
 
-#include "harness/params.h"
+#include "base/params.h"
 #include "integrands/integrand.h"
 #include "integrands/parallel_geometry.h"
 

@@ -7,7 +7,7 @@
 #include <numbers>
 #include <optional>
 
-#include "harness/errors.h"
+#include "base/errors.h"
 #include "integrands/expression_syntax.h"
 #include "integrands/point_integrand.h"
 

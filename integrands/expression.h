@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/params.h"
+#include "base/params.h"
 #include "integrands/integrand.h"
 
 namespace mu {

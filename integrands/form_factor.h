@@ -18,7 +18,7 @@
 
 #include <vector>
 
-#include "harness/params.h"
+#include "base/params.h"
 #include "integrands/integrand.h"
 #include "integrands/parallel_geometry.h"
 

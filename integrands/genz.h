@@ -12,7 +12,7 @@
 #include <cmath>
 #include <vector>
 
-#include "harness/params.h"
+#include "base/params.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {

@@ -26,7 +26,7 @@
 #include <cmath>
 #include <vector>
 
-#include "harness/params.h"
+#include "base/params.h"
 #include "integrands/genz.h"
 #include "integrands/integrand.h"
 

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "harness/errors.h"
+#include "base/errors.h"
 
 namespace pcbench {
 

@@ -17,7 +17,7 @@
 
 #include <vector>
 
-#include "harness/params.h"
+#include "base/params.h"
 #include "integrands/genz.h"
 #include "integrands/integrand.h"
 

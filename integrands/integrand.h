@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/rng.h"
+#include "base/rng.h"
 
 namespace pcbench {
 

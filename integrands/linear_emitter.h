@@ -20,8 +20,8 @@
 #include <cmath>
 #include <vector>
 
-#include "harness/params.h"
-#include "harness/rng.h"
+#include "base/params.h"
+#include "base/rng.h"
 #include "integrands/integrand.h"
 #include "integrands/parallel_geometry.h"
 

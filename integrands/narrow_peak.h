@@ -19,7 +19,7 @@
 #include <cmath>
 #include <vector>
 
-#include "harness/params.h"
+#include "base/params.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/params.h"
+#include "base/params.h"
 
 namespace pcbench::parallel {
 

@@ -27,7 +27,7 @@
 #include <memory>
 #include <vector>
 
-#include "harness/params.h"
+#include "base/params.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {

@@ -5,8 +5,8 @@
 #include <deque>
 #include <mutex>
 
-#include "harness/errors.h"
-#include "harness/nearest_name.h"
+#include "base/errors.h"
+#include "base/nearest_name.h"
 #include "integrands/blocker.h"
 #include "integrands/door.h"
 #include "integrands/door_2d.h"

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "harness/params.h"
+#include "base/params.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {

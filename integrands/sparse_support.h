@@ -20,7 +20,7 @@
 
 #include <vector>
 
-#include "harness/params.h"
+#include "base/params.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {

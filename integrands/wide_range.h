@@ -29,8 +29,8 @@
 #include <cmath>
 #include <vector>
 
-#include "harness/params.h"
-#include "harness/rng.h"
+#include "base/params.h"
+#include "base/rng.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {

@@ -24,7 +24,7 @@ struct StrategyImages {
   // The layers of the strategies the estimator samples, shortest paths first (path length
   // s + t - 1, then s). Each holds the sum over `replicates` replicates of that replicate's
   // per-pixel mean over its iterations: sums, so that parts of a run taken apart (interleaved,
-  // harness/interleaved_runs.h) add up to the run taken whole.
+  // harness/run/interleaved_runs.h) add up to the run taken whole.
   std::vector<StrategyLayer> layers;
   std::uint32_t replicates = 0;
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzes pcbench's input parsers with libFuzzer (fuzz/README.md):
 #   bash scripts/fuzz.sh TARGET|all SECONDS
-# TARGET is suite, scene or expression. Builds the preset "fuzz" (clang, ASan + UBSan), replays
+# TARGET is suite, scene or expression. Builds the preset "fuzz" (the asan build: clang, ASan +
+# UBSan), replays
 # fuzz/regressions/TARGET (every input once), then fuzzes for SECONDS from the committed seeds
 # fuzz/corpus/TARGET with fuzz/dict/TARGET.dict. Inputs it finds go to build/fuzz/corpus/TARGET
 # (kept between runs, not committed), crashes to build/fuzz/artifacts/TARGET/. Fails if any
@@ -33,7 +34,7 @@ declare -A max_len=([suite]=4096 [scene]=4096 [expression]=512)
 
 status=0
 for target in "${targets[@]}"; do
-  binary=$root/build/fuzz/fuzz/fuzz_$target
+  binary=$root/build/asan/fuzz/fuzz_$target  # the preset "fuzz" builds into build/asan
   work=$root/build/fuzz/work/$target  # the working directory: scene files named in suites
   found=$root/build/fuzz/corpus/$target
   artifacts=$root/build/fuzz/artifacts/$target

@@ -5,7 +5,7 @@ Relative MSE at 1 CPU s per run of a scene suite from its session's checkpoints 
 order = completion order: rows, then estimators, then integrands). For unbiased estimators the
 per-replicate relative MSE is the per-replicate relative variance: mean over values of the
 replicates' sample variance / scale², scale = pooled mean of the scene's first-row runs + 1% of
-its mean (harness/image_statistics.cpp relative_error_scale). ± is a jackknife over replicates."""
+its mean (harness/verify/image_statistics.cpp relative_error_scale). ± is a jackknife over replicates."""
 import json
 import os
 import sys

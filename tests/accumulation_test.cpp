@@ -18,8 +18,8 @@
 #include <cmath>
 #include <cstdint>
 
-#include "harness/runner.h"
-#include "harness/tally.h"
+#include "harness/run/runner.h"
+#include "harness/run/tally.h"
 
 namespace pcbench {
 namespace {

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "harness/diagnostics.h"
+#include "harness/run/diagnostics.h"
 
 namespace pcbench::scene {
 namespace {

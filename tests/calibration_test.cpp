@@ -1,4 +1,4 @@
-#include "harness/calibration.h"
+#include "harness/commands/calibration.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-#include "harness/errors.h"
+#include "base/errors.h"
 
 namespace pcbench {
 namespace {

@@ -22,11 +22,11 @@
 #include <string>
 #include <vector>
 
-#include "harness/params.h"
-#include "harness/plan.h"
-#include "harness/rng.h"
-#include "harness/runner.h"
-#include "harness/statistics.h"
+#include "base/params.h"
+#include "base/rng.h"
+#include "harness/plan/plan.h"
+#include "harness/run/runner.h"
+#include "harness/verify/statistics.h"
 #include "integrands/blocker.h"
 #include "integrands/door.h"
 #include "integrands/door_2d.h"
@@ -305,10 +305,11 @@ double door_2d_by_crossing(const Door2d& model, double t, const double lo[2], co
   constexpr double kTolerance = 1e-9;
   return integrate(
       [&](double c0) {
-        const auto [x0_lo, x0_hi] = x_range(c0);
+        // Pairs, not structured bindings: clang 14 cannot capture a binding in a lambda.
+        const std::pair<double, double> x0_range = x_range(c0);
         return integrate(
             [&](double c1) {
-              const auto [x1_lo, x1_hi] = x_range(c1);
+              const std::pair<double, double> x1_range = x_range(c1);
               return integrate(
                   [&](double x0) {
                     return integrate(
@@ -317,9 +318,9 @@ double door_2d_by_crossing(const Door2d& model, double t, const double lo[2], co
                           const double y[2] = {x0 + (c0 - x0) / t, x1 + (c1 - x1) / t};
                           return model.f(x, y) / (t * t);
                         },
-                        x1_lo, x1_hi, {}, kTolerance);
+                        x1_range.first, x1_range.second, {}, kTolerance);
                   },
-                  x0_lo, x0_hi, {}, kTolerance);
+                  x0_range.first, x0_range.second, {}, kTolerance);
             },
             std::max(lo[1], 0.0), std::min(hi[1], 1.0), {t, 1.0 - t}, kTolerance);
       },

@@ -1,6 +1,6 @@
 // The command line end to end, in process: exit statuses, nothing written on bad input, and
 // report numbers independent of the thread count.
-#include "harness/cli.h"
+#include "harness/commands/cli.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

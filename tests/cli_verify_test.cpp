@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "harness/cli.h"
-#include "harness/plan.h"
-#include "harness/statistics.h"
+#include "harness/commands/cli.h"
+#include "harness/plan/plan.h"
+#include "harness/verify/statistics.h"
 #include "test_support.h"
 
 namespace pcbench {
@@ -140,8 +140,8 @@ TEST_F(CliVerify, WithoutAReferenceEstimatorsAreComparedPairwise) {
 
 // A constant integrand: every replicate gives the same bits, so the standard error is 0, and the
 // mean may sit an ulp off the exact value (vc-all sums its 16 terms plainly). That is tested
-// against the rounding bound (harness/rounding_bound.h): consistent, and a wrong exact value is
-// still biased.
+// against the rounding bound (harness/verify/rounding_bound.h): consistent, and a wrong exact value
+// is still biased.
 TEST_F(CliVerify, ConstantIntegrandIsTestedAgainstTheRoundingBound) {
   struct Case {
     std::string f, exact, name;

@@ -7,9 +7,9 @@
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 
-#include "harness/plan.h"
-#include "harness/runner.h"
-#include "harness/statistics.h"
+#include "harness/plan/plan.h"
+#include "harness/run/runner.h"
+#include "harness/verify/statistics.h"
 #include "tests/test_support.h"
 
 namespace pcbench {

@@ -1,4 +1,4 @@
-#include "harness/diagnostics.h"
+#include "harness/run/diagnostics.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "harness/rng.h"
+#include "base/rng.h"
 
 namespace pcbench {
 namespace {

@@ -1,6 +1,6 @@
-// The efficiency ratio and its interval (harness/efficiency_ratio.h): the point value is the
+// The efficiency ratio and its interval (harness/verify/efficiency_ratio.h): the point value is the
 // formula's, and the interval covers the true ratio at least at its stated level.
-#include "harness/efficiency_ratio.h"
+#include "harness/verify/efficiency_ratio.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Equal-time budgets: the sample count a measured cost buys (analytic and scene rules), and a
 // resumed scene run keeping the count its pilot chose. The pilot's measurement itself depends on
 // the machine's speed; the command-line tests run it (tests/cli_verify_test.cpp).
-#include "harness/equal_time.h"
+#include "harness/run/equal_time.h"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "harness/run_store.h"
-#include "harness/session.h"
+#include "harness/run/run_store.h"
+#include "harness/session/session.h"
 #include "tests/test_support.h"
 
 namespace pcbench {

@@ -1,4 +1,4 @@
-#include "harness/estimates_file.h"
+#include "harness/plan/estimates_file.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/errors.h"
+#include "base/errors.h"
 #include "tests/test_support.h"
 
 namespace pcbench {

@@ -5,9 +5,9 @@
 #include <boost/math/distributions/chi_squared.hpp>
 
 #include "estimators/resampling.h"
-#include "harness/plan.h"
-#include "harness/runner.h"
-#include "harness/statistics.h"
+#include "harness/plan/plan.h"
+#include "harness/run/runner.h"
+#include "harness/verify/statistics.h"
 #include "integrands/point_integrand.h"
 #include "integrands/registry.h"
 

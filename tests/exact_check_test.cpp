@@ -1,5 +1,5 @@
 // The draw schemes, their enumeration, and the exact check of the resampling step.
-#include "harness/exact_check.h"
+#include "harness/verify/exact_check.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <map>
 
 #include "estimators/draw_scheme.h"
-#include "harness/plan.h"
+#include "harness/plan/plan.h"
 #include "test_support.h"
 
 namespace pcbench {

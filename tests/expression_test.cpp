@@ -14,8 +14,8 @@
 #include <thread>
 #include <vector>
 
-#include "harness/errors.h"
-#include "harness/rng.h"
+#include "base/errors.h"
+#include "base/rng.h"
 #include "integrands/point_integrand.h"
 #include "integrands/registry.h"
 

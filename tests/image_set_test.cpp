@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/image_set.h"
-#include "harness/rng.h"
+#include "base/rng.h"
+#include "harness/plan/image_set.h"
 #include "test_support.h"
 
 namespace pcbench {

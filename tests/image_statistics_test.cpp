@@ -1,4 +1,4 @@
-#include "harness/image_statistics.h"
+#include "harness/verify/image_statistics.h"
 
 #include <gtest/gtest.h>
 
@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "harness/diagnostics.h"
-#include "harness/statistics.h"
-#include "harness/tile_checks.h"
+#include "harness/run/diagnostics.h"
+#include "harness/verify/statistics.h"
+#include "harness/verify/tile_checks.h"
 #include "results/exr_file.h"
 #include "test_support.h"
 

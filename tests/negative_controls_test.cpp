@@ -7,9 +7,9 @@
 #include <gtest/gtest.h>
 
 #include "estimators/registry.h"
-#include "harness/plan.h"
-#include "harness/runner.h"
-#include "harness/statistics.h"
+#include "harness/plan/plan.h"
+#include "harness/run/runner.h"
+#include "harness/verify/statistics.h"
 
 namespace pcbench {
 namespace {

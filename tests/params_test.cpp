@@ -1,4 +1,4 @@
-#include "harness/params.h"
+#include "base/params.h"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/errors.h"
-#include "harness/rng.h"
+#include "base/errors.h"
+#include "base/rng.h"
 
 namespace pcbench {
 namespace {

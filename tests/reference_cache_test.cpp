@@ -1,7 +1,7 @@
 // The reference cache: its key follows the traced scene and nothing else, entries round-trip,
 // only a better-converged image replaces one, and broken entries are ignored with a warning.
 // Then the errors against a noisy reference, and `pcbench reference` end to end.
-#include "harness/reference_cache.h"
+#include "harness/verify/reference_cache.h"
 
 #include <gtest/gtest.h>
 
@@ -9,9 +9,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/cli.h"
-#include "harness/image_errors.h"
-#include "harness/image_statistics.h"
+#include "harness/commands/cli.h"
+#include "harness/verify/image_errors.h"
+#include "harness/verify/image_statistics.h"
 #include "integrands/scenes/built_in_scenes.h"
 #include "tests/test_support.h"
 

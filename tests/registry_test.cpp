@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "base/errors.h"
+#include "base/params.h"
 #include "estimators/registry.h"
-#include "harness/errors.h"
-#include "harness/params.h"
 #include "integrands/registry.h"
 
 namespace pcbench {

@@ -1,16 +1,16 @@
 // `pcbench replay`: every replayed sample is the one the run tallied (summed in order they give
 // the run's replicate estimates bit for bit, fresh and shared pools, across a batch boundary),
 // the first non-finite sample replays as non-finite, and the printed command rebuilds the run.
-#include "harness/replay.h"
+#include "harness/run/replay.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <sstream>
 
-#include "harness/cli.h"
-#include "harness/errors.h"
-#include "harness/tally.h"
+#include "base/errors.h"
+#include "harness/commands/cli.h"
+#include "harness/run/tally.h"
 #include "tests/test_support.h"
 
 namespace pcbench {

@@ -1,4 +1,4 @@
-#include "harness/report_compare.h"
+#include "harness/verify/report_compare.h"
 
 #include <gtest/gtest.h>
 
@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "harness/errors.h"
-#include "harness/rng.h"
-#include "harness/statistics.h"
+#include "base/errors.h"
+#include "base/rng.h"
+#include "harness/verify/statistics.h"
 #include "tests/test_support.h"
 
 namespace pcbench {

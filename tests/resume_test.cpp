@@ -8,11 +8,11 @@
 #include <filesystem>
 #include <sstream>
 
-#include "harness/cli.h"
-#include "harness/errors.h"
-#include "harness/run_store.h"
-#include "harness/runner.h"
-#include "harness/saved_run.h"
+#include "base/errors.h"
+#include "harness/commands/cli.h"
+#include "harness/run/run_store.h"
+#include "harness/run/runner.h"
+#include "harness/run/saved_run.h"
 #include "tests/test_support.h"
 
 namespace pcbench {

@@ -1,4 +1,4 @@
-#include "harness/runner.h"
+#include "harness/run/runner.h"
 
 #include <gtest/gtest.h>
 #include <oneapi/tbb/global_control.h>
@@ -7,9 +7,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "harness/plan.h"
-#include "harness/statistics.h"
-#include "harness/tally.h"
+#include "harness/plan/plan.h"
+#include "harness/run/tally.h"
+#include "harness/verify/statistics.h"
 #include "integrands/point_integrand.h"
 #include "tests/test_support.h"
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/errors.h"
+#include "base/errors.h"
 #include "tests/test_support.h"
 
 namespace pcbench::scene {

@@ -27,11 +27,11 @@
 #include <string>
 #include <vector>
 
+#include "base/rng.h"
 #include "estimators/registry.h"
 #include "estimators/scene/render_replicate.h"
 #include "examples/example_nee.h"
-#include "harness/rng.h"
-#include "harness/statistics.h"
+#include "harness/verify/statistics.h"
 #include "integrands/scenes/bsdf.h"
 #include "integrands/scenes/built_in_scenes.h"
 #include "integrands/scenes/connection.h"

@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "harness/rng.h"
+#include "base/rng.h"
 #include "integrands/scenes/bsdf.h"
 #include "integrands/scenes/built_in_scenes.h"
 #include "integrands/scenes/camera_model.h"

@@ -1,4 +1,4 @@
-#include "harness/statistics.h"
+#include "harness/verify/statistics.h"
 
 #include <gtest/gtest.h>
 
@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "harness/plan.h"
-#include "harness/rng.h"
-#include "harness/rounding_bound.h"
-#include "harness/runner.h"
+#include "base/rng.h"
+#include "harness/plan/plan.h"
+#include "harness/run/runner.h"
+#include "harness/verify/rounding_bound.h"
 
 namespace pcbench {
 namespace {
@@ -202,7 +202,7 @@ TEST(StatisticsTest, WelchWithZeroSpreadTestsAgainstTheReferenceUncertaintyAlone
 }
 
 // ---------------------------------------------------------------------------------------------
-// The rounding bound (harness/rounding_bound.h)
+// The rounding bound (harness/verify/rounding_bound.h)
 
 // R replicates that all gave `estimate`, each from samples of Σ|terms| = `mean_abs`: a constant
 // integrand.

@@ -14,9 +14,9 @@
 #include <set>
 #include <sstream>
 
-#include "harness/cli.h"
-#include "harness/image_statistics.h"
-#include "harness/runner.h"
+#include "harness/commands/cli.h"
+#include "harness/run/runner.h"
+#include "harness/verify/image_statistics.h"
 #include "results/exr_file.h"
 #include "tests/test_support.h"
 
@@ -103,7 +103,7 @@ TEST(SceneRenderStrategyImages, LeaveTheImageAloneAndDoNotDependOnTheThreadCount
   }
 }
 
-// Interleaved runs take their replicates one at a time (harness/interleaved_runs.h).
+// Interleaved runs take their replicates one at a time (harness/run/interleaved_runs.h).
 TEST(SceneRenderStrategyImages, ARunTakenInPartsAddsUpToTheRunTakenWhole) {
   const RunPlan plan = plan_single("pcbpt", "cornell", {{"resolution", {"16"}}}, 2, 3);
   const RunResult whole = execute_run(plan, {.seed = 2, .strategy_images = true});

@@ -1,4 +1,4 @@
-#include "harness/tally.h"
+#include "harness/run/tally.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <limits>
 #include <vector>
 
-#include "harness/rng.h"
+#include "base/rng.h"
 
 namespace pcbench {
 namespace {

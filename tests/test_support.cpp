@@ -1,6 +1,6 @@
 #include "tests/test_support.h"
 
-#include "harness/cli.h"
+#include "harness/commands/cli.h"
 
 #include <unistd.h>
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/plan.h"
+#include "harness/plan/plan.h"
 
 namespace pcbench {
 
@@ -42,7 +42,7 @@ class TemporaryFolder {
   std::filesystem::path path_;
 };
 
-// What `pcbench ARGS` returned and printed, run in process (harness/cli.h).
+// What `pcbench ARGS` returned and printed, run in process (harness/commands/cli.h).
 struct CliResult {
   int status;
   std::string out;

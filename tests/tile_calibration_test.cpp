@@ -1,4 +1,4 @@
-#include "harness/tile_calibration.h"
+#include "harness/commands/tile_calibration.h"
 
 #include <gtest/gtest.h>
 #include <oneapi/tbb/global_control.h>
@@ -9,8 +9,8 @@
 #include <sstream>
 #include <string>
 
-#include "harness/calibration.h"
-#include "harness/errors.h"
+#include "base/errors.h"
+#include "harness/commands/calibration.h"
 #include "tests/test_support.h"
 
 namespace pcbench {

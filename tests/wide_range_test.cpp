@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/diagnostics.h"
+#include "harness/run/diagnostics.h"
 #include "integrands/registry.h"
 
 namespace pcbench {

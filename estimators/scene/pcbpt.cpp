@@ -38,13 +38,13 @@
 #include <optional>
 #include <vector>
 
+#include "base/errors.h"
 #include "estimators/discrete_sampler.h"
 #include "estimators/resampling_step.h"
 #include "estimators/scene/cache_mixture.h"
 #include "estimators/scene/cache_points.h"
 #include "estimators/scene/scene_estimators.h"
 #include "estimators/scene/vertex_draws.h"
-#include "harness/errors.h"
 #include "integrands/scenes/bsdf.h"
 
 namespace pcbench {

@@ -9,8 +9,8 @@
 #include <memory>
 #include <vector>
 
+#include "base/params.h"
 #include "estimators/scene/scene_estimator.h"
-#include "harness/params.h"
 
 namespace pcbench {
 

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "harness/rng.h"
+#include "base/rng.h"
 #include "integrands/scenes/scene.h"
 
 namespace pcbench::scene {

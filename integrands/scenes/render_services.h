@@ -6,7 +6,7 @@
 // an estimator what to do with these is estimators/scene/render_replicate.h.
 //
 // Determinism: every random number comes from a stream of (key, replicate, purpose, iteration,
-// path or pixel) (harness/rng.h), and everything done in parallel (pool chunks, image rows) is
+// path or pixel) (base/rng.h), and everything done in parallel (pool chunks, image rows) is
 // summed in a fixed order, so an image does not depend on the thread count.
 #pragma once
 
@@ -15,7 +15,7 @@
 #include <span>
 #include <vector>
 
-#include "harness/rng.h"
+#include "base/rng.h"
 #include "integrands/scenes/connection.h"
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/scene.h"

@@ -15,8 +15,8 @@
 #include <sstream>
 #include <utility>
 
-#include "harness/errors.h"
-#include "harness/nearest_name.h"
+#include "base/errors.h"
+#include "base/nearest_name.h"
 #include "integrands/scenes/scene_obj.h"
 
 namespace pcbench::scene {

@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "harness/errors.h"
+#include "base/errors.h"
 #include "integrands/scenes/built_in_scenes.h"
 #include "integrands/scenes/scene_file.h"
 

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/errors.h"
+#include "base/errors.h"
 
 namespace pcbench::scene {
 namespace {

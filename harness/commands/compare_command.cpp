@@ -1,0 +1,47 @@
+#include "harness/commands/compare_command.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <ostream>
+
+#include "harness/session/report.h"
+#include "harness/verify/report_compare.h"
+
+namespace pcbench {
+
+int run_compare_command(const std::string& report_a, const std::string& report_b,
+                        const SessionOptions& options, std::ostream& out, std::ostream& err) {
+  const ComparisonOutcome outcome = compare_report_files(report_a, report_b, options.alpha);
+  for (const std::string& warning : outcome.warnings)
+    err << "pcbench: warning: " << warning << "\n";
+  if (!options.quiet) {
+    out << fmt::format("{:<16} {:<24} {:<18} {:>9} {:>10} {:>10}  {}\n", "id", "estimator",
+                       "integrand", "t", "p_adj", "mdd", "result");
+    for (const Comparison& c : outcome.comparisons) {
+      out << fmt::format("{:<16} {:<24} {:<18} {:>9.3g} {:>10.3g} {:>10.3g}  {}\n", c.a,
+                         c.estimator, c.integrand, c.statistic, c.p_adjusted,
+                         c.min_detectable_difference, c.result);
+    }
+    for (const UncomparedRun& run : outcome.not_compared) {
+      out << fmt::format("{:<16} not compared: {}\n", run.id, run.reason);
+    }
+    if (!outcome.only_in_a.empty()) {
+      out << fmt::format("only in {}: {}\n", report_a, fmt::join(outcome.only_in_a, ", "));
+    }
+    if (!outcome.only_in_b.empty()) {
+      out << fmt::format("only in {}: {}\n", report_b, fmt::join(outcome.only_in_b, ", "));
+    }
+  }
+  ReportSections sections;
+  sections.comparisons = comparisons_json(outcome.comparisons);
+  const auto report_path =
+      publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
+                                 options.suite_name, {}, sections),
+                     options, err);
+  if (!report_path) return kExitRunFailed;
+  out << "report: " << report_path->string() << "\n";
+  return outcome.as_expected() ? kExitOk : kExitVerdictDiffers;
+}
+
+}  // namespace pcbench

@@ -1,0 +1,16 @@
+// `pcbench compare A.json B.json`: "did my change alter this estimator?" Two-sample tests
+// between the runs with the same id in two reports (harness/verify/report_compare.h), Holm over the
+// pairs, written to a report's comparisons[] and printed.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+
+#include "harness/session/session.h"
+
+namespace pcbench {
+
+int run_compare_command(const std::string& report_a, const std::string& report_b,
+                        const SessionOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace pcbench

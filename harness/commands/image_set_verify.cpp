@@ -1,0 +1,298 @@
+#include "harness/commands/image_set_verify.h"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "base/errors.h"
+#include "harness/session/report.h"
+#include "harness/verify/image_statistics.h"
+#include "harness/verify/report_compare.h"
+#include "harness/verify/scene_verification.h"
+#include "harness/verify/tile_checks.h"
+#include "results/exr_file.h"
+
+namespace pcbench {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+std::vector<double> parse_numbers(const std::string& text, const char* option) {
+  std::vector<double> values;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string part = text.substr(start, comma - start);
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
+    if (part.empty() || error != std::errc() || end != part.data() + part.size() ||
+        !std::isfinite(value)) {
+      throw InputError(
+          fmt::format("command line: {} '{}': '{}' is not a finite number", option, text, part));
+    }
+    values.push_back(value);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return values;
+}
+
+Image constant_image(const Image& like, const std::string& text) {
+  const std::vector<double> v = parse_numbers(text, "--constant");
+  if (v.size() != 1 && v.size() != kImageChannels) {
+    throw InputError(
+        fmt::format("command line: --constant '{}': give V (every channel) or R,G,B", text));
+  }
+  Image image(like.width, like.height);
+  for (std::size_t i = 0; i < image.values.size(); ++i) {
+    image.values[i] = v.size() == 1 ? v[0] : v[i % kImageChannels];
+  }
+  return image;
+}
+
+void check_same_size(const Image& image, const Image& like, const std::string& what) {
+  if (image.width != like.width || image.height != like.height) {
+    throw InputError(fmt::format("command line: {} is {}x{} but the --images set is {}x{}", what,
+                                 image.width, image.height, like.width, like.height));
+  }
+}
+
+Json files_json(const ImageSet& set) {
+  Json files = Json::array();
+  for (const ImageFileFacts& f : set.files) {
+    Json entry = {{"path", f.path},
+                  {"format", f.format},
+                  {"pixel_type", f.pixel_type},
+                  {"nonfinite", f.nonfinite},
+                  {"negative", f.negative}};
+    if (f.first_nonfinite_x) {
+      entry["first_nonfinite"] = {{"x", *f.first_nonfinite_x}, {"y", *f.first_nonfinite_y}};
+    }
+    files.push_back(std::move(entry));
+  }
+  return files;
+}
+
+// Warns about what the files hold that is not bad input but must not pass unseen.
+void warn_about_values(const ImageSet& set, std::ostream& err) {
+  for (const ImageFileFacts& f : set.files) {
+    if (f.nonfinite > 0) {
+      err << fmt::format(
+          "pcbench: warning: {}: {} NaN or infinite value(s), the first at pixel ({}, {}) of the "
+          "tested window; its tile fails its test\n",
+          f.path, f.nonfinite, *f.first_nonfinite_x, *f.first_nonfinite_y);
+    }
+    if (f.negative > 0) {
+      err << fmt::format(
+          "pcbench: warning: {}: {} negative value(s) (a reconstruction filter with negative "
+          "lobes makes them; radiance itself is never negative)\n",
+          f.path, f.negative);
+    }
+  }
+}
+
+// What the reference is, for the report and the comparison's b.
+struct Against {
+  std::string kind;  // images | reference | constant
+  std::string label;
+  Json json;
+  std::string id;  // the comparison's b: against | reference | exact
+};
+
+}  // namespace
+
+CropWindow parse_crop(const std::string& text) {
+  const std::vector<double> v = parse_numbers(text, "--crop");
+  const bool integers =
+      std::all_of(v.begin(), v.end(), [](double x) { return x >= 0 && x == std::floor(x); });
+  if (v.size() != 4 || !integers || v[2] < 1 || v[3] < 1 || v[0] > 1e6 || v[1] > 1e6 ||
+      v[2] > 1e6 || v[3] > 1e6) {
+    throw InputError(fmt::format(
+        "command line: --crop '{}': give X,Y,W,H, the top-left pixel and a size of at least 1",
+        text));
+  }
+  return {static_cast<std::uint32_t>(v[0]), static_cast<std::uint32_t>(v[1]),
+          static_cast<std::uint32_t>(v[2]), static_cast<std::uint32_t>(v[3])};
+}
+
+int run_image_set_verification(const ImageSetRequest& request, const SessionOptions& options,
+                               std::ostream& out, std::ostream& err) {
+  const int references = static_cast<int>(request.against.has_value()) +
+                         static_cast<int>(request.reference_image.has_value()) +
+                         static_cast<int>(request.constant.has_value());
+  if (references != 1) {
+    throw InputError(
+        "command line: --images needs exactly one of --against SET, --reference-image FILE and "
+        "--constant V|R,G,B");
+  }
+  if (request.reference_stderr && !request.reference_image) {
+    throw InputError("command line: --reference-stderr goes with --reference-image");
+  }
+  if (request.tile == 0) throw InputError("command line: --tile must be at least 1");
+  if (request.expect != "consistent" && request.expect != "biased") {
+    throw InputError(
+        fmt::format("command line: --expect '{}': consistent or biased", request.expect));
+  }
+
+  // Everything is read and checked before anything is written.
+  const ImageSet set = read_image_set(request.images, "--images", request.read);
+  const Image& like = set.images.front();
+  std::optional<ImageSet> other;
+  std::optional<Image> reference, reference_stderr;
+  Against against;
+  double quantisation = set.quantisation_bias;
+  if (request.against) {
+    other = read_image_set(*request.against, "--against", request.read);
+    check_same_size(other->images.front(), like, "the --against set");
+    quantisation = std::max(quantisation, other->quantisation_bias);
+    against = {
+        "images", *request.against, {{"kind", "images"}, {"files", files_json(*other)}}, "against"};
+  } else if (request.reference_image) {
+    ImageFileFacts facts;
+    reference = read_image_file(*request.reference_image, request.read, &facts);
+    check_same_size(*reference, like, *request.reference_image);
+    quantisation = std::max(quantisation, worst_quantisation_bias(facts.pixel_type));
+    against = {"reference",
+               *request.reference_image,
+               {{"kind", "reference"}, {"file", *request.reference_image}},
+               "reference"};
+    if (request.reference_stderr) {
+      reference_stderr = read_image_file(*request.reference_stderr, request.read);
+      check_same_size(*reference_stderr, like, *request.reference_stderr);
+      against.json["stderr_file"] = *request.reference_stderr;
+    } else {
+      against.json["stderr_file"] = nullptr;
+    }
+  } else {
+    reference = constant_image(like, *request.constant);
+    against = {"constant",
+               "constant " + *request.constant,
+               {{"kind", "constant"}, {"value", parse_numbers(*request.constant, "--constant")}},
+               "exact"};
+  }
+
+  // Two verdicts in the family: the comparison and its self-check.
+  const TileOptions tiles{.tile = request.tile, .family_size = 2};
+  const auto test = [&](const std::vector<Image>& images) {
+    if (other) return compare_tiles(images, other->images, options.alpha, tiles);
+    if (reference_stderr) {
+      return test_tiles_against_reference(images, *reference, *reference_stderr, options.alpha,
+                                          tiles);
+    }
+    return test_tiles_against_exact(images, *reference, options.alpha, tiles);
+  };
+  const TileTestResult result = test(set.images);
+  const TileTest& brightest = brightest_tile(result);
+  const double injected = 2.0 * brightest.min_detectable_bias;
+  const TileTestResult shifted =
+      test(with_tile_bias(set.images, brightest, request.tile, injected));
+
+  Verdict verdict = tile_verdict(result, request.expect);
+  Verdict self_check = tile_verdict(shifted, "biased");
+  std::vector<Verdict*> family = {&verdict, &self_check};
+  decide_family(family, options.alpha);
+  if (result.worst_bright_relative_mdb < quantisation) {
+    verdict.reason += fmt::format(
+        "; the detectable tile bias is below the worst-case quantisation bias of the pixel "
+        "format ({:.3g}%): a difference that small may be the format's rounding",
+        100.0 * quantisation);
+  }
+
+  const std::string label = "images vs " + against.label;
+  std::vector<Comparison> comparisons = {
+      tile_comparison(result, "images", against.id, label, "images", set.images.size(),
+                      request.expect),
+      tile_comparison(
+          shifted, "images+injected", against.id,
+          label + fmt::format(" (tile {},{} channel {} + 2×MDB = {:.3g})", brightest.tile_x,
+                              brightest.tile_y, brightest.channel, injected),
+          "images", set.images.size(), "biased")};
+  for (std::size_t i = 0; i < comparisons.size(); ++i) {
+    const Verdict& v = *family[i];
+    comparisons[i].p_adjusted = v.p_adjusted;
+    comparisons[i].alpha = v.alpha;
+    comparisons[i].result = v.result;
+    comparisons[i].reason = v.reason;
+    comparisons[i].min_detectable_difference = v.min_detectable_bias;
+  }
+
+  warn_about_values(set, err);
+  if (other) warn_about_values(*other, err);
+
+  const fs::path folder = report_folder(options);
+  const PixelStatistics stats = pixel_statistics(set.images);
+  std::optional<PixelStatistics> other_stats;
+  if (other) other_stats = pixel_statistics(other->images);
+  const Image z = other_stats ? z_map(stats, *other_stats)
+                  : reference_stderr
+                      ? z_map(stats, PixelStatistics{.mean = *reference,
+                                                     .standard_error = *reference_stderr,
+                                                     .replicates = 0})
+                      : z_map(stats, *reference);
+  const PixelTestSummary pixels = summarize_z(
+      z, set.images, other ? std::span<const Image>(other->images) : std::span(&*reference, 1));
+  Json files;
+  try {
+    fs::create_directories(folder / "images");
+    const auto write = [&](const char* kind, const Image& image) {
+      const std::string name = fmt::format("images/images_{}.exr", kind);
+      write_exr_rgb(folder / name, image);
+      files[kind] = name;
+    };
+    write("mean", stats.mean);
+    write("stderr", stats.standard_error);
+    write("zmap", z);
+  } catch (const std::exception& e) {
+    err << "pcbench: error: cannot write the images of " << folder.string() << ": " << e.what()
+        << "\n";
+    return kExitRunFailed;
+  }
+
+  ReportSections sections;
+  sections.comparisons = comparisons_json(comparisons);
+  Json crop = nullptr;
+  if (request.read.crop) {
+    crop = {{"x", request.read.crop->x},
+            {"y", request.read.crop->y},
+            {"width", request.read.crop->width},
+            {"height", request.read.crop->height}};
+  }
+  sections.image_sets = Json{
+      {"images", request.images},
+      {"files", files_json(set)},
+      {"against", against.json},
+      {"width", like.width},
+      {"height", like.height},
+      {"channels", request.read.channels},
+      {"crop", crop},
+      {"tile", request.tile},
+      {"worst_quantisation_bias", quantisation},
+      {"pixel_test",
+       {{"test", "pixel-z"},
+        {"statistic", std::isfinite(pixels.max_abs_z) ? Json(pixels.max_abs_z) : Json(nullptr)},
+        {"pixels_beyond_4_sigma", pixels.pixels_beyond_4_sigma},
+        {"expected_beyond_4_sigma_at_most", pixels.expected_beyond_4_sigma},
+        {"low_count_pixels", pixels.low_count_pixels}}},
+      {"image_files", files}};
+  const auto report_path =
+      publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
+                                 options.suite_name, {}, sections),
+                     options, folder, err);
+  for (const Comparison& c : comparisons) {
+    out << fmt::format("{}: {}{} ({})\n", c.estimator, c.result,
+                       c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect),
+                       c.reason);
+  }
+  if (!report_path) return kExitRunFailed;
+  out << "report: " << report_path->string() << "\n";
+  const bool as_expected = std::all_of(comparisons.begin(), comparisons.end(),
+                                       [](const Comparison& c) { return c.result == c.expect; });
+  return as_expected ? kExitOk : kExitVerdictDiffers;
+}
+
+}  // namespace pcbench

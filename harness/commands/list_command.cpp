@@ -1,0 +1,127 @@
+#include "harness/commands/list_command.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "estimators/registry.h"
+#include "integrands/registry.h"
+
+namespace pcbench {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json params_json(const std::vector<ParamSpec>& specs) {
+  Json out = Json::array();
+  for (const ParamSpec& spec : specs) {
+    out.push_back(
+        Json{{"name", spec.name},
+             {"type", describe_type(spec)},
+             {"default", spec.required || spec.optional ? Json(nullptr) : Json(spec.default_value)},
+             {"required", spec.required},
+             {"description", spec.description}});
+  }
+  return out;
+}
+
+void print_params(std::ostream& out, const std::vector<ParamSpec>& specs) {
+  for (const ParamSpec& spec : specs) {
+    std::string default_text = spec.required   ? "required"
+                               : spec.optional ? "optional"
+                                               : "default " + spec.default_value;
+    out << fmt::format("      {:<12} {} ({}; {})\n", spec.name, spec.description,
+                       describe_type(spec), default_text);
+  }
+}
+
+}  // namespace
+
+void print_registry(std::ostream& out, bool as_json) {
+  if (as_json) {
+    Json estimators = Json::array();
+    std::vector<const EstimatorEntry*> all;
+    for (const EstimatorEntry& e : estimator_registry()) all.push_back(&e);
+    for (const EstimatorEntry& e : scene_estimator_registry()) all.push_back(&e);
+    for (const EstimatorEntry* entry_pointer : all) {
+      const EstimatorEntry& e = *entry_pointer;
+      Json entry{{"name", e.name},
+                 {"biased", e.biased},
+                 {"params", params_json(e.params)},
+                 {"description", e.description},
+                 {"analytic", e.samples_analytic()},
+                 {"scenes", e.renders_scenes()},
+                 {"scene_params", params_json(e.scene_params)}};
+      if (e.declared) {
+        entry["declared"] = Json{{"integrand", e.declared->integrand},
+                                 {"params", e.declared->integrand_params},
+                                 {"samples", e.declared->samples},
+                                 {"replicates", e.declared->replicates},
+                                 {"partners", e.declared->partners}};
+      }
+      estimators.push_back(std::move(entry));
+    }
+    Json integrands = Json::array();
+    for (const IntegrandEntry& i : integrand_registry()) {
+      integrands.push_back(Json{{"name", i.name},
+                                {"params", params_json(i.params)},
+                                {"exact", i.exact},
+                                {"tags", i.tags},
+                                {"description", i.description}});
+    }
+    Json scenes = Json::array();
+    for (const IntegrandEntry& i : scene_registry()) {
+      scenes.push_back(Json{{"name", i.name},
+                            {"params", params_json(i.params)},
+                            {"exact", i.exact},
+                            {"description", i.description}});
+    }
+    out << Json{{"estimators", estimators}, {"integrands", integrands}, {"scenes", scenes}}.dump(2)
+        << "\n";
+    return;
+  }
+  out << "estimators:\n";
+  for (const EstimatorEntry& e : estimator_registry()) {
+    out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
+    if (e.declared) {
+      out << fmt::format("      biased on {} at {} samples x {} replicates (`verify -e {}`)\n",
+                         e.declared->integrand, e.declared->samples, e.declared->replicates,
+                         e.name);
+    }
+    print_params(out, e.params);
+    if (e.renders_scenes() && !e.scene_params.empty()) {
+      out << "      on scenes:\n";
+      print_params(out, e.scene_params);
+    }
+  }
+  out << "scene-only estimators:\n";
+  for (const EstimatorEntry& e : scene_estimator_registry()) {
+    out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
+    if (e.declared) {
+      out << fmt::format(
+          "      biased on {} at {} samples per pixel x {} replicates{} (`verify -e {}`)\n",
+          e.declared->integrand, e.declared->samples, e.declared->replicates,
+          e.declared->partners.empty()
+              ? ""
+              : fmt::format(", against {}", fmt::join(e.declared->partners, ", ")),
+          e.name);
+    }
+    print_params(out, e.scene_params);
+  }
+  out << "integrands:\n";
+  for (const IntegrandEntry& i : integrand_registry()) {
+    std::string tags = i.exact ? "[exact] " : "";
+    for (const std::string& tag : i.tags) tags += "[" + tag + "] ";
+    out << fmt::format("  {:<20} {}{}\n", i.name, tags, i.description);
+    print_params(out, i.params);
+  }
+  out << "scenes (or a scene file: --integrand path/to/scene.json):\n";
+  for (const IntegrandEntry& i : scene_registry()) {
+    out << fmt::format("  {:<20} {}{}\n", i.name, i.exact ? "[exact] " : "", i.description);
+    print_params(out, i.params);
+  }
+}
+
+}  // namespace pcbench

@@ -1,0 +1,216 @@
+#include "harness/plan/image_set.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <glob.h>
+
+#include <OpenImageIO/imageio.h>
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <string_view>
+
+#include "base/errors.h"
+#include "base/text_hash.h"
+
+namespace pcbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kFormats = "OpenEXR (.exr), Radiance HDR (.hdr) or PFM (.pfm)";
+
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+bool image_extension(const fs::path& path) {
+  const std::string ext = lower(path.extension().string());
+  return ext == ".exr" || ext == ".hdr" || ext == ".pfm";
+}
+
+std::vector<std::string> glob_files(const std::string& pattern) {
+  glob_t found{};
+  const int status = glob(pattern.c_str(), 0, nullptr, &found);
+  std::vector<std::string> files;
+  if (status == 0) {
+    for (std::size_t i = 0; i < found.gl_pathc; ++i) files.emplace_back(found.gl_pathv[i]);
+  }
+  globfree(&found);
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string stored_type(const std::string& format, const OIIO::ImageSpec& spec, int channel) {
+  if (format == "hdr") return "rgbe";
+  const OIIO::TypeDesc type = spec.channelformat(channel);
+  if (type == OIIO::TypeDesc::HALF) return "half";
+  if (type == OIIO::TypeDesc::FLOAT) return "float";
+  return type.c_str();
+}
+
+// FNV-1a over the pixel values' bytes: equal only for identical images (up to a collision of
+// 2^-64, and then the message names two files to look at).
+std::uint64_t content_hash(const Image& image) {
+  const std::string_view bytes(reinterpret_cast<const char*>(image.values.data()),
+                               image.values.size() * sizeof(double));
+  return fnv1a(kFnvOffset, bytes);
+}
+
+}  // namespace
+
+double worst_quantisation_bias(const std::string& pixel_type) {
+  if (pixel_type == "half") return std::ldexp(1.0, -11);
+  if (pixel_type == "rgbe") return std::ldexp(1.0, -7);
+  return std::ldexp(1.0, -24);  // float (and anything wider)
+}
+
+std::vector<std::string> image_set_files(const std::string& set, const std::string& option) {
+  std::vector<std::string> files;
+  std::error_code error;
+  if (fs::is_directory(set, error)) {
+    for (const fs::directory_entry& entry : fs::directory_iterator(set, error)) {
+      if (entry.is_regular_file() && image_extension(entry.path())) {
+        files.push_back(entry.path().string());
+      }
+    }
+    std::sort(files.begin(), files.end());
+    if (files.empty()) {
+      throw InputError(
+          fmt::format("command line: {} '{}': the folder holds no {} file", option, set, kFormats));
+    }
+    return files;
+  }
+  if (set.find_first_of("*?[") != std::string::npos) {
+    files = glob_files(set);
+    if (files.empty()) {
+      throw InputError(
+          fmt::format("command line: {} '{}': the pattern matches no file", option, set));
+    }
+    return files;
+  }
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = set.find(',', start);
+    const std::string file = set.substr(start, comma - start);
+    if (file.empty()) {
+      throw InputError(
+          fmt::format("command line: {} '{}': an empty file name in the list", option, set));
+    }
+    files.push_back(file);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return files;
+}
+
+Image read_image_file(const std::string& path, const ImageReadOptions& options,
+                      ImageFileFacts* facts) {
+  std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(path);
+  if (!input) {
+    throw InputError(fmt::format("{}: cannot be read as an image: {}", path, OIIO::geterror()));
+  }
+  const OIIO::ImageSpec& spec = input->spec();
+  // OpenImageIO reads PFM with its PNM plugin; only the float variant holds radiance.
+  const std::string plugin = input->format_name();
+  const std::string format =
+      plugin == "pnm" && spec.format == OIIO::TypeDesc::FLOAT ? "pfm" : plugin;
+  if (format != "openexr" && format != "hdr" && format != "pfm") {
+    throw InputError(fmt::format("{}: a {} file ({}); radiance images are {}", path, plugin,
+                                 spec.format.c_str(), kFormats));
+  }
+  std::vector<int> channels;
+  for (const std::string& name : options.channels) {
+    const int index = spec.channelindex(name);
+    if (index < 0) {
+      throw InputError(fmt::format("{}: no channel '{}'; it has {} (choose with --channels)", path,
+                                   name, fmt::join(spec.channelnames, ", ")));
+    }
+    channels.push_back(index);
+  }
+  const auto width = static_cast<std::uint32_t>(spec.width);
+  const auto height = static_cast<std::uint32_t>(spec.height);
+  std::vector<float> pixels(std::size_t{width} * height * static_cast<std::size_t>(spec.nchannels));
+  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data())) {
+    throw InputError(fmt::format("{}: cannot read its pixels (truncated or damaged?): {}", path,
+                                 input->geterror()));
+  }
+  const CropWindow crop = options.crop.value_or(CropWindow{0, 0, width, height});
+  if (crop.width == 0 || crop.height == 0 || crop.x + crop.width > width ||
+      crop.y + crop.height > height) {
+    throw InputError(fmt::format("{}: --crop {},{},{},{} is not inside its {}x{} pixels", path,
+                                 crop.x, crop.y, crop.width, crop.height, width, height));
+  }
+  Image image(crop.width, crop.height);
+  ImageFileFacts found{.path = path, .format = format};
+  double worst = 0.0;
+  for (int c : channels) {
+    const std::string type = stored_type(format, spec, c);
+    if (worst_quantisation_bias(type) >= worst) {
+      worst = worst_quantisation_bias(type);
+      found.pixel_type = type;
+    }
+  }
+  for (std::uint32_t y = 0; y < crop.height; ++y) {
+    for (std::uint32_t x = 0; x < crop.width; ++x) {
+      const std::size_t pixel = std::size_t{crop.y + y} * width + (crop.x + x);
+      for (std::uint32_t c = 0; c < kImageChannels; ++c) {
+        const double v = pixels[pixel * static_cast<std::size_t>(spec.nchannels) +
+                                static_cast<std::size_t>(channels[c])];
+        image.at(x, y, c) = v;
+        if (!std::isfinite(v)) {
+          if (found.nonfinite++ == 0) {
+            found.first_nonfinite_x = x;
+            found.first_nonfinite_y = y;
+          }
+        } else if (v < 0.0) {
+          ++found.negative;
+        }
+      }
+    }
+  }
+  if (facts != nullptr) *facts = std::move(found);
+  return image;
+}
+
+ImageSet read_image_set(const std::string& set, const std::string& option,
+                        const ImageReadOptions& options, std::size_t min_images) {
+  const std::vector<std::string> paths = image_set_files(set, option);
+  if (paths.size() < min_images) {
+    throw InputError(fmt::format(
+        "command line: {} '{}': {} image(s); a standard error needs at least {} independent "
+        "replicates (one seed each)",
+        option, set, paths.size(), min_images));
+  }
+  ImageSet out;
+  std::map<std::uint64_t, std::size_t> seen;  // content hash -> file index
+  for (const std::string& path : paths) {
+    ImageFileFacts facts;
+    Image image = read_image_file(path, options, &facts);
+    if (!out.images.empty() &&
+        (image.width != out.images.front().width || image.height != out.images.front().height)) {
+      throw InputError(fmt::format("command line: {}: {} is {}x{} but {} is {}x{}", option, path,
+                                   image.width, image.height, out.files.front().path,
+                                   out.images.front().width, out.images.front().height));
+    }
+    const auto [it, inserted] = seen.emplace(content_hash(image), out.images.size());
+    if (!inserted) {
+      throw InputError(fmt::format(
+          "command line: {}: {} and {} hold the same pixels: the same replicate twice (a "
+          "reused seed or a copied file), which would understate the standard error",
+          option, out.files[it->second].path, path));
+    }
+    out.quantisation_bias =
+        std::max(out.quantisation_bias, worst_quantisation_bias(facts.pixel_type));
+    out.images.push_back(std::move(image));
+    out.files.push_back(std::move(facts));
+  }
+  return out;
+}
+
+}  // namespace pcbench

@@ -1,0 +1,271 @@
+#include "harness/plan/plan.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <set>
+
+#include "base/errors.h"
+#include "base/text_hash.h"
+
+namespace pcbench {
+
+const std::vector<std::string> kExpectations = {"consistent", "biased", "inconclusive"};
+
+namespace {
+
+bool declares(const std::vector<ParamSpec>& specs, const std::string& key) {
+  return std::any_of(specs.begin(), specs.end(),
+                     [&](const ParamSpec& spec) { return spec.name == key; });
+}
+
+std::vector<std::string> spec_names(const std::vector<ParamSpec>& specs) {
+  std::vector<std::string> names;
+  for (const ParamSpec& spec : specs) names.push_back(spec.name);
+  return names;
+}
+
+std::string names_or_none(const std::vector<ParamSpec>& specs) {
+  return specs.empty() ? std::string("none") : join_names(spec_names(specs));
+}
+
+bool is_scene(const IntegrandEntry& integrand) {
+  return integrand.has_tag("scene");
+}
+
+// The parameters `estimator` reads on `integrand`; InputError when it cannot run there.
+const std::vector<ParamSpec>& estimator_specs(const EstimatorEntry& estimator,
+                                              const IntegrandEntry& integrand,
+                                              const std::string& where) {
+  if (is_scene(integrand)) {
+    if (!estimator.renders_scenes()) {
+      std::vector<std::string> able;
+      for (const EstimatorEntry& e : estimator_registry()) {
+        if (e.renders_scenes()) able.push_back(e.name);
+      }
+      throw InputError(
+          fmt::format("{}: estimator '{}' does not render scenes ('{}' is one); "
+                      "estimators that do: {}",
+                      where, estimator.name, integrand.name, join_names(able)));
+    }
+    return estimator.scene_params;
+  }
+  if (!estimator.samples_analytic()) {
+    throw InputError(fmt::format("{}: estimator '{}' works on scenes only, not on '{}'", where,
+                                 estimator.name, integrand.name));
+  }
+  return estimator.params;
+}
+
+struct Row {
+  const EstimatorEntry* estimator;
+  const IntegrandEntry* integrand;
+  ParamText params;
+};
+
+[[noreturn]] void too_many_runs(const GridRequest& grid) {
+  throw InputError(fmt::format(
+      "{}: more than {} runs in all (a grid is the product of its lists); give fewer values",
+      grid.where, kMaxRuns));
+}
+
+// Expands one grid into rows; a key the row's estimator and integrand do not read is dropped for
+// that row, and a key no row reads is an error (a typo would otherwise vanish silently). Throws
+// when the rows, with `earlier` rows of the grids before, would be more than kMaxRuns.
+std::vector<Row> expand(const GridRequest& grid, std::size_t earlier) {
+  if (grid.estimators.empty()) throw InputError(grid.where + ": no estimator given");
+  if (grid.integrands.empty()) throw InputError(grid.where + ": no integrand given");
+  std::vector<Row> rows;
+  std::set<std::string> keys_read;
+  for (const std::string& estimator_name : grid.estimators) {
+    const EstimatorEntry& estimator = find_estimator(estimator_name);
+    for (const std::string& integrand_name : grid.integrands) {
+      const IntegrandEntry& integrand = find_integrand(integrand_name);
+      const std::vector<ParamSpec>& specs = estimator_specs(estimator, integrand, grid.where);
+      std::vector<ParamText> partial = {{}};
+      for (const auto& [key, values] : grid.params) {
+        if (!declares(specs, key) && !declares(integrand.params, key)) continue;
+        keys_read.insert(key);
+        if (values.empty())
+          throw InputError(fmt::format("{}: parameter '{}' has no values", grid.where, key));
+        if (earlier + rows.size() + partial.size() * values.size() > kMaxRuns) {
+          too_many_runs(grid);
+        }
+        std::vector<ParamText> next;
+        for (const ParamText& base : partial) {
+          for (const std::string& value : values) {
+            ParamText row = base;
+            row[key] = value;
+            next.push_back(std::move(row));
+          }
+        }
+        partial = std::move(next);
+      }
+      if (earlier + rows.size() + partial.size() > kMaxRuns) too_many_runs(grid);
+      for (ParamText& params : partial) rows.push_back({&estimator, &integrand, std::move(params)});
+    }
+  }
+  for (const auto& [key, values] : grid.params) {
+    if (keys_read.count(key)) continue;
+    std::string readers;
+    for (const std::string& name : grid.estimators) {
+      readers += fmt::format("; estimator '{}' reads: {}", name,
+                             names_or_none(find_estimator(name).params));
+    }
+    for (const std::string& name : grid.integrands) {
+      readers += fmt::format("; integrand '{}' reads: {}", name,
+                             names_or_none(find_integrand(name).params));
+    }
+    throw InputError(fmt::format("{}: parameter '{}' is read by no estimator or integrand{}",
+                                 grid.where, key, readers));
+  }
+  return rows;
+}
+
+}  // namespace
+
+std::uint64_t run_id_hash(const std::string& estimator, const std::string& integrand,
+                          const std::map<std::string, std::string>& effective_params,
+                          std::uint64_t samples, std::uint32_t replicates) {
+  std::uint64_t hash = fnv1a(kFnvOffset, "pcbench-run-v1");
+  hash = fnv1a(hash, estimator);
+  hash = fnv1a(hash, integrand);
+  for (const auto& [key, value] : effective_params) hash = fnv1a(fnv1a(hash, key), value);
+  hash = fnv1a(hash, fmt::format("samples={}", samples));
+  return fnv1a(hash, fmt::format("replicates={}", replicates));
+}
+
+void assign_id(RunPlan& plan) {
+  std::map<std::string, std::string> effective;
+  const std::vector<ParamSpec>& specs =
+      is_scene(*plan.integrand) ? plan.estimator->scene_params : plan.estimator->params;
+  for (const auto& [key, value] : plan.estimator_params.values()) {
+    const auto spec =
+        std::find_if(specs.begin(), specs.end(), [&](const ParamSpec& s) { return s.name == key; });
+    const std::string text = to_text(value);
+    if (spec != specs.end() && spec->omitted_from_id_at == text) continue;
+    effective[key] = text;
+  }
+  for (const auto& [key, value] : plan.integrand_params.values()) effective[key] = to_text(value);
+  // No parameter name starts with '@': the budget cannot collide with a parameter.
+  if (plan.seconds) effective["@seconds"] = fmt::format("{}", *plan.seconds);
+  if (plan.pilot) effective["@pilot"] = "yes";
+  plan.id_hash = run_id_hash(plan.estimator->name, plan.integrand->name, effective, plan.samples,
+                             plan.replicates);
+  plan.id = fmt::format("{:016x}", plan.id_hash);
+}
+
+RunPlan with_samples(const RunPlan& plan, std::uint64_t samples) {
+  RunPlan next = plan;
+  next.samples = samples;
+  next.seconds.reset();
+  assign_id(next);
+  return next;
+}
+
+RunPlan with_chosen_samples(const RunPlan& plan, std::uint64_t samples) {
+  RunPlan chosen = plan;
+  chosen.samples = samples;
+  chosen.id_hash = with_samples(plan, samples).id_hash;
+  return chosen;
+}
+
+std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
+                               const BudgetDefaults& budget) {
+  std::vector<RunPlan> plans;
+  struct SeenRow {
+    std::optional<std::string> expect;
+    std::string where;
+  };
+  std::map<std::uint64_t, SeenRow> seen;
+  std::size_t rows_so_far = 0;  // before identical rows collapse: what expanding costs
+  for (const GridRequest& grid : grids) {
+    if (grid.expect && std::find(kExpectations.begin(), kExpectations.end(), *grid.expect) ==
+                           kExpectations.end()) {
+      throw InputError(fmt::format("{}: expect '{}' is not valid; valid: {}", grid.where,
+                                   *grid.expect, join_names(kExpectations)));
+    }
+    std::vector<Row> rows = expand(grid, rows_so_far);
+    rows_so_far += rows.size();
+    for (Row& row : rows) {
+      RunPlan plan;
+      plan.where = grid.where;
+      plan.estimator = row.estimator;
+      plan.integrand = row.integrand;
+      const bool scene = is_scene(*row.integrand);
+      plan.estimator_params =
+          resolve_params(scene ? row.estimator->scene_params : row.estimator->params, row.params,
+                         fmt::format("{}: estimator '{}'", grid.where, row.estimator->name));
+      plan.integrand_params =
+          resolve_params(row.integrand->params, row.params,
+                         fmt::format("{}: integrand '{}'", grid.where, row.integrand->name));
+      // A scene's samples are per pixel; its default budget is kDefaultScenePixelSamples.
+      const std::uint64_t default_samples =
+          scene && budget.samples == kDefaultSamples ? kDefaultScenePixelSamples : budget.samples;
+      plan.samples = budget.forced_samples.value_or(grid.samples.value_or(default_samples));
+      plan.replicates =
+          budget.forced_replicates.value_or(grid.replicates.value_or(budget.replicates));
+      // Samples given on the command line win over any seconds; seconds on the command line
+      // win over a suite's samples; within a suite a row's budget wins over the defaults.
+      if (!budget.forced_samples) {
+        plan.seconds = budget.forced_seconds;
+        if (!plan.seconds && !grid.samples)
+          plan.seconds = grid.seconds ? grid.seconds : budget.seconds;
+      }
+      if (plan.seconds &&
+          !(*plan.seconds >= kMinSecondsPerReplicate && *plan.seconds <= kMaxSecondsPerReplicate)) {
+        throw InputError(fmt::format("{}: seconds = {} is out of range [{:g}, {:.0e}]", grid.where,
+                                     *plan.seconds, kMinSecondsPerReplicate,
+                                     kMaxSecondsPerReplicate));
+      }
+      if (plan.seconds) plan.samples = 0;
+      if (!plan.seconds && (plan.samples < 1 || plan.samples > kMaxSamples)) {
+        throw InputError(fmt::format("{}: samples = {} is out of range [1, {}]", grid.where,
+                                     plan.samples, kMaxSamples));
+      }
+      if (static_cast<double>(plan.samples) * plan.replicates > kMaxTotalSamples) {
+        throw InputError(fmt::format(
+            "{}: samples × replicates = {} × {} exceeds {:.0e} camera samples in one run",
+            grid.where, plan.samples, plan.replicates, kMaxTotalSamples));
+      }
+      if (plan.replicates < 2 || plan.replicates > kMaxReplicates) {
+        throw InputError(fmt::format(
+            "{}: replicates = {} is out of range [2, {}] (tests need the spread across at least "
+            "two replicates)",
+            grid.where, plan.replicates, kMaxReplicates));
+      }
+      plan.expect = grid.expect;
+
+      assign_id(plan);
+      // Identical rows collapse into one; the same run expected to give two different verdicts
+      // is a contradiction in the suite, not something to settle by row order.
+      const auto [it, inserted] = seen.emplace(plan.id_hash, SeenRow{plan.expect, grid.where});
+      if (!inserted) {
+        if (it->second.expect != plan.expect) {
+          throw InputError(
+              fmt::format("{}: the same run as {} with a different expectation ({} vs {})",
+                          grid.where, it->second.where, plan.expect.value_or("default"),
+                          it->second.expect.value_or("default")));
+        }
+        continue;
+      }
+
+      const std::string where =
+          fmt::format("{}: {} × {}", grid.where, row.estimator->name, row.integrand->name);
+      try {
+        if (scene) {
+          plan.render = row.estimator->make_render(plan.estimator_params);
+        } else {
+          plan.made_estimator = row.estimator->make(plan.estimator_params);
+        }
+        plan.made_integrand = row.integrand->make(plan.integrand_params);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", where, e.what()));
+      }
+      plans.push_back(std::move(plan));
+    }
+  }
+  return plans;
+}
+
+}  // namespace pcbench

@@ -1,0 +1,116 @@
+// From what the user asked for (suite rows, grids, command-line flags) to validated run plans.
+//
+// Everything that can be wrong with the input is found here, before any run starts: unknown
+// estimator or integrand names, parameter keys read by neither, values of the wrong type, an
+// expression that does not parse. Each error names its location and the valid choices.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "estimators/registry.h"
+#include "integrands/registry.h"
+
+namespace pcbench {
+
+inline constexpr std::uint64_t kDefaultSamples = 100000;
+inline constexpr std::uint64_t kDefaultScenePixelSamples = 16;  // samples per pixel
+inline constexpr std::uint32_t kDefaultReplicates = 32;
+inline constexpr std::uint64_t kDefaultSeed = 1;
+// Counter layout limits of the random streams (base/rng.h).
+inline constexpr std::uint64_t kMaxSamples = 0xFFFFFFFFull;
+inline constexpr std::uint32_t kMaxReplicates = 0xFFFFFFu;
+// 10^13 camera samples would take weeks here; a budget beyond it is a typo.
+inline constexpr double kMaxTotalSamples = 1e13;
+// Runs one invocation may plan (the default suite has 113). A grid is a product, so a few
+// hundred bytes of lists ask for 10^9 runs: refused while expanding, before its plans fill memory.
+inline constexpr std::size_t kMaxRuns = 100000;
+
+// A grid: the product of its lists. A plain suite row is a grid whose lists have one element.
+struct GridRequest {
+  std::vector<std::string> estimators = {};
+  std::vector<std::string> integrands = {};
+  std::map<std::string, std::vector<std::string>> params = {};  // key -> values, as text
+  std::optional<std::uint64_t> samples = {};
+  std::optional<double> seconds = {};  // an equal-time budget instead of samples
+  std::optional<std::uint32_t> replicates = {};
+  std::optional<std::string> expect = {};
+  std::string where = {};  // "suites/x.json: /grid/0" or "command line"
+};
+
+// Budget settings that apply unless a row sets its own; `forced` values (from the command line)
+// override rows too.
+struct BudgetDefaults {
+  std::uint64_t samples = kDefaultSamples;
+  std::uint32_t replicates = kDefaultReplicates;
+  std::optional<std::uint64_t> forced_samples = {};
+  std::optional<std::uint32_t> forced_replicates = {};
+  std::optional<double> seconds = {};  // a suite's default equal-time budget
+  std::optional<double> forced_seconds = {};
+};
+
+// An equal-time budget is at most this many CPU seconds per replicate.
+inline constexpr double kMaxSecondsPerReplicate = 1e6;
+// And at least this much: below a millisecond a replicate measures the clock, not the estimator.
+inline constexpr double kMinSecondsPerReplicate = 1e-3;
+
+struct RunPlan {
+  // The run as requested: 16 hex digits of a hash of estimator, integrand, effective params,
+  // budget (samples, or seconds) and replicates.
+  std::string id;
+  // Keys the random streams: the hash of `id`, except for an equal-time run once its sample
+  // count is chosen, which uses the id of the same run with `--samples N` so that the replay
+  // gives the same numbers.
+  std::uint64_t id_hash = 0;
+  std::string where;
+  const EstimatorEntry* estimator = nullptr;
+  const IntegrandEntry* integrand = nullptr;
+  ResolvedParams estimator_params;
+  ResolvedParams integrand_params;
+  std::uint64_t samples = 0;  // 0 for an equal-time run until its pilot has chosen N
+  std::uint32_t replicates = 0;
+  // Equal time: CPU seconds per replicate (an analytic replicate's thread CPU summed over its
+  // chunks, a scene replicate's process CPU: all threads either way; harness/run/equal_time.h). A
+  // short pilot measures the cost per sample (per pixel, for a scene); the run then takes a
+  // fixed N from it (never stopping on a clock mid-way, which would bias estimators whose cost
+  // correlates with their value).
+  std::optional<double> seconds;
+  // An equal-time pilot: its id differs from every real run's, so that it never takes the
+  // numbers of the run it measures (a pilot of 2 replicates × N would otherwise be that run).
+  bool pilot = false;
+  std::uint64_t pilot_samples = 0;                  // per pilot replicate (2 replicates)
+  double pilot_cpu_per_sample = 0.0;                // what the pilot measured
+  std::optional<std::string> expect;                // unset: "consistent" if there is a reference
+  std::shared_ptr<const Estimator> made_estimator;  // analytic integrands
+  // Scenes (made_integrand is a SceneIntegrand).
+  std::shared_ptr<const scene::SceneEstimator> render;
+  std::shared_ptr<const Integrand> made_integrand;
+};
+
+// Expands every grid, resolves and builds each row, and collapses rows with the same id (the
+// first occurrence stays). Throws InputError on the first bad input.
+std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids, const BudgetDefaults& budget);
+
+// Sets plan.id_hash and plan.id from its estimator, integrand, effective params and budget.
+void assign_id(RunPlan& plan);
+
+// The same run with another budget of samples: a new id, so new random numbers (sequential
+// escalation, pilots).
+RunPlan with_samples(const RunPlan& plan, std::uint64_t samples);
+
+// An equal-time run with its sample count chosen: keeps the requested id, and takes the random
+// streams of `--samples samples` (see RunPlan::id_hash).
+RunPlan with_chosen_samples(const RunPlan& plan, std::uint64_t samples);
+
+// The id of a run: a hash of estimator, integrand, effective params, samples and replicates.
+std::uint64_t run_id_hash(const std::string& estimator, const std::string& integrand,
+                          const std::map<std::string, std::string>& effective_params,
+                          std::uint64_t samples, std::uint32_t replicates);
+
+extern const std::vector<std::string> kExpectations;  // consistent, biased, inconclusive
+
+}  // namespace pcbench

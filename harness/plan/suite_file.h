@@ -1,0 +1,37 @@
+// Suite files (INTERFACE.md, "Suite file"):
+//   {"name", "description", "defaults": {"samples", "replicates", "seed"},
+//    "runs": [{"estimator", "integrand", "params": {..}, "samples", "replicates", "expect"}],
+//    "grid": [{"estimator": [..], "integrand": [..], "params": {"M": [..]}, ...}],
+//    "compare", "interleave", "strategy_images"}
+// Errors name the file, the JSON pointer of the offending value and the valid keys.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/plan/plan.h"
+
+namespace pcbench {
+
+struct SuiteRequest {
+  std::string name;
+  std::vector<GridRequest> grids;  // rows of "runs" first, then "grid" entries, in file order
+  std::optional<std::uint64_t> samples;
+  std::optional<double> seconds;  // equal-time default
+  std::optional<std::uint32_t> replicates;
+  std::optional<std::uint64_t> seed;
+  // "compare": "pairwise": two-sample tests between every pair of runs on the same integrand
+  // (same parameters), counted in the family-wise alpha and the exit status.
+  bool compare_pairwise = false;
+  // "interleave": true: runs on one integrand take their replicates in turn (--interleave).
+  bool interleave = false;
+  // "strategy_images": true: scene runs also write their per-strategy images (--strategy-images).
+  bool strategy_images = false;
+};
+
+SuiteRequest parse_suite(const std::string& text, const std::string& file_name);
+SuiteRequest load_suite(const std::string& path);
+
+}  // namespace pcbench

@@ -1,0 +1,128 @@
+#include "harness/run/interleaved_runs.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+
+#include "harness/verify/efficiency_ratio.h"
+
+namespace pcbench {
+
+std::vector<std::vector<std::size_t>> same_integrand_groups(
+    const std::vector<const RunPlan*>& plans) {
+  std::vector<std::vector<std::size_t>> groups;
+  std::map<std::pair<const IntegrandEntry*, std::string>, std::size_t> index;
+  for (std::size_t i = 0; i < plans.size(); ++i) {
+    std::string params;
+    for (const auto& [key, value] : plans[i]->integrand_params.values()) {
+      params += key + "=" + to_text(value) + ";";
+    }
+    const auto [it, added] = index.try_emplace({plans[i]->integrand, params}, groups.size());
+    if (added) groups.emplace_back();
+    groups[it->second].push_back(i);
+  }
+  return groups;
+}
+
+std::vector<RunResult> execute_interleaved(const std::vector<const RunPlan*>& plans,
+                                           const RunnerOptions& base, ProgressReporter& progress) {
+  std::vector<RunResult> results(plans.size());
+  std::vector<bool> started(plans.size(), false);
+  for (const std::vector<std::size_t>& group : same_integrand_groups(plans)) {
+    std::uint64_t work = 0;
+    std::uint32_t rounds = 0;
+    for (std::size_t i : group) {
+      work += plans[i]->samples * plans[i]->replicates;
+      rounds = std::max(rounds, plans[i]->replicates);
+    }
+    const RunPlan& first = *plans[group.front()];
+    RunnerOptions options = base;
+    options.samples_done = progress.run_started(
+        fmt::format("{} runs on {}, interleaved", group.size(), first.integrand->name), work);
+    bool cut_short = false;
+    for (std::uint32_t r = 0; r < rounds && !cut_short; ++r) {
+      for (std::size_t i : group) {
+        if (r >= plans[i]->replicates) continue;
+        options.first_replicate = r;
+        options.replicate_count = 1;
+        RunResult part = execute_run(*plans[i], options);
+        if (part.status == RunStatus::kNotRun) {
+          cut_short = true;
+          break;
+        }
+        if (!started[i]) {
+          results[i] = std::move(part);
+          started[i] = true;
+        } else {
+          append_part(results[i], std::move(part));
+        }
+      }
+    }
+    for (std::size_t i : group) {
+      if (cut_short || !started[i]) {
+        results[i] = not_run_result(*plans[i], "interrupted before the run finished");
+      }
+    }
+    progress.run_finished(cut_short ? "interrupted" : "done", group.size());
+    if (cut_short) break;
+  }
+  for (std::size_t i = 0; i < plans.size(); ++i) {
+    if (!started[i] && results[i].error.empty()) {
+      results[i] = not_run_result(*plans[i], "interrupted before the run started");
+    }
+  }
+  return results;
+}
+
+nlohmann::json efficiency_ratios_json(const std::vector<RunRecord>& records, bool interleaved) {
+  std::vector<const RunPlan*> plans;
+  for (const RunRecord& r : records) plans.push_back(r.plan);
+  nlohmann::json out = nlohmann::json::array();
+  for (const std::vector<std::size_t>& group : same_integrand_groups(plans)) {
+    std::vector<const RunRecord*> finished;
+    for (std::size_t i : group) {
+      const RunRecord& r = records[i];
+      if (r.result.status == RunStatus::kOk && !r.plan->render) finished.push_back(&r);
+    }
+    const auto baseline = std::find_if(finished.begin(), finished.end(), [](const RunRecord* r) {
+      return !r->plan->estimator->biased;
+    });
+    if (baseline == finished.end()) continue;
+    const auto columns = [](const RunRecord& r) {
+      std::pair<std::vector<double>, std::vector<double>> c;
+      for (const ReplicateResult& rep : r.result.replicates) {
+        c.first.push_back(rep.estimate);
+        c.second.push_back(rep.cpu_seconds);
+      }
+      return c;
+    };
+    const auto [estimates_a, cpu_a] = columns(**baseline);
+    for (const RunRecord* b : finished) {
+      if (b == *baseline) continue;
+      const auto [estimates_b, cpu_b] = columns(*b);
+      const EfficiencyRatio e = efficiency_ratio(estimates_a, cpu_a, estimates_b, cpu_b);
+      if (!e.valid) continue;
+      out.push_back(
+          {{"integrand", b->plan->integrand->name},
+           {"a", (*baseline)->plan->id},
+           {"b", b->plan->id},
+           {"estimator", b->plan->estimator->name + " vs " + (*baseline)->plan->estimator->name},
+           {"ratio", e.ratio},
+           {"low", e.low},
+           {"high", e.high},
+           {"level", kEfficiencyRatioLevel},
+           {"variance_ratio", e.variance_ratio},
+           {"variance_low", e.variance_low},
+           {"variance_high", e.variance_high},
+           {"cost_ratio", e.cost_ratio},
+           {"cost_low", e.cost_low},
+           {"cost_high", e.cost_high},
+           {"pairs", e.pairs},
+           {"interleaved", interleaved}});
+    }
+  }
+  return out;
+}
+
+}  // namespace pcbench

@@ -1,0 +1,285 @@
+#include "harness/run/runner.h"
+
+#include "harness/run/scene_runner.h"
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <exception>
+
+#include <fmt/format.h>
+
+#include "harness/run/diagnostics.h"
+#include "harness/run/tally.h"
+
+namespace pcbench {
+
+const char* to_string(RunStatus status) {
+  switch (status) {
+    case RunStatus::kOk:
+      return "ok";
+    case RunStatus::kInvalid:
+      return "invalid";
+    case RunStatus::kError:
+      return "error";
+    case RunStatus::kNotRun:
+      return "not_run";
+  }
+  return "error";
+}
+
+namespace {
+
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double wall_seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// What one thread reuses across the chunks it runs.
+struct ThreadState {
+  std::unique_ptr<PathWorkspace> paths;
+  EstimatorScratch scratch;
+  std::vector<double> estimates;
+  std::vector<double> magnitudes;
+  Counters counters;
+};
+
+// The chunk's running sum at a series checkpoint that falls inside (or at the end of) it.
+struct ChunkCheckpoint {
+  std::uint64_t samples = 0;
+  double sum = 0.0;
+  double cpu_seconds = 0.0;
+  double seconds = 0.0;
+};
+
+struct ChunkResult {
+  Tally tally = Tally();
+  CompensatedSum magnitude = {};  // Σ of per-sample estimates of ∫∫ |f|
+  std::vector<ChunkCheckpoint> checkpoints = {};
+  double seconds = 0.0;
+  double cpu_seconds = 0.0;
+  bool done = false;
+};
+
+}  // namespace
+
+// How many of a replicate's largest |estimates| the tail fit gets: the PSIS tail 3√n plus its
+// threshold, at most kMaxTailSize + 1. A higher threshold only moves the fit further into the
+// tail; averaging over replicates keeps k̂ precise (sd about (1 + k) / √(256 R)), and keeping
+// 3√n values per chunk cost the runner half its speed on cheap integrands.
+namespace {
+constexpr std::size_t kMaxTailSize = 256;
+std::size_t kept_largest(std::uint64_t samples) {
+  return std::min(pareto_tail_size(samples), kMaxTailSize) + 1;
+}
+}  // namespace
+
+std::vector<std::uint64_t> series_checkpoints(std::uint64_t samples) {
+  std::vector<std::uint64_t> out;
+  for (std::uint64_t n = 1024; n < samples; n *= 2) out.push_back(n);
+  out.push_back(samples);
+  return out;
+}
+
+std::pair<std::uint32_t, std::uint32_t> replicate_range(const RunPlan& plan,
+                                                        const RunnerOptions& options) {
+  const std::uint32_t first = std::min(options.first_replicate, plan.replicates);
+  const std::uint32_t count =
+      options.replicate_count == 0 ? plan.replicates - first : options.replicate_count;
+  return {first, std::min(plan.replicates, first + count)};
+}
+
+RunResult not_run_result(const RunPlan& plan, std::string why) {
+  RunResult result;
+  result.status = RunStatus::kNotRun;
+  result.error = std::move(why);
+  result.reference = plan.made_integrand->reference();
+  return result;
+}
+
+void append_part(RunResult& run, RunResult&& part) {
+  if (run.status == RunStatus::kOk && part.status != RunStatus::kOk) {
+    run.status = part.status;
+    run.error = std::move(part.error);
+  }
+  if (!run.first_nonfinite) run.first_nonfinite = part.first_nonfinite;
+  run.wall_seconds += part.wall_seconds;
+  run.counters.add(part.counters);
+  for (auto& rep : part.replicates) run.replicates.push_back(std::move(rep));
+  for (auto& image : part.images) run.images.push_back(std::move(image));
+  add_strategy_images(run.strategy_images, std::move(part.strategy_images));
+  for (const auto& counter : part.scene_counters) {
+    const std::string& name = counter.first;
+    const std::uint64_t count = counter.second;
+    const auto same = std::find_if(run.scene_counters.begin(), run.scene_counters.end(),
+                                   [&](const auto& c) { return c.first == name; });
+    if (same == run.scene_counters.end()) {
+      run.scene_counters.emplace_back(name, count);
+    } else if (name == "scene_builds") {
+      same->second = count;  // BVH builds so far in this process, not work of the part
+    } else {
+      same->second += count;
+    }
+  }
+}
+
+std::uint32_t chunk_size(std::uint64_t samples) {
+  // At most 64 chunks per replicate keeps the merge cheap; at least 16 batches per chunk keeps
+  // the per-chunk overhead small. Both depend on N only.
+  const std::uint64_t per_chunk = std::max<std::uint64_t>(16 * kBatchSize, (samples + 63) / 64);
+  const std::uint64_t rounded = (per_chunk + kBatchSize - 1) / kBatchSize * kBatchSize;
+  return static_cast<std::uint32_t>(std::min<std::uint64_t>(rounded, 1u << 30));
+}
+
+RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
+  if (plan.render) return execute_scene_run(plan, options);
+  RunResult result;
+  result.reference = plan.made_integrand->reference();
+  if (plan.integrand->non_negative() && result.reference.kind != ReferenceKind::kNone) {
+    result.reference.magnitude = std::fabs(result.reference.value);
+  }
+  result.independent_samples = plan.made_estimator->samples_independent();
+  const auto run_start = std::chrono::steady_clock::now();
+
+  const std::uint64_t samples = plan.samples;
+  const std::uint32_t chunk = chunk_size(samples);
+  const std::uint64_t chunks_per_replicate = (samples + chunk - 1) / chunk;
+  // Not a structured binding: clang 14 (the fuzz build) cannot capture one in a lambda.
+  const std::pair<std::uint32_t, std::uint32_t> taken = replicate_range(plan, options);
+  const std::uint32_t first_replicate = taken.first;
+  const std::uint32_t replicates = taken.second - taken.first;
+  const std::uint64_t task_count = chunks_per_replicate * replicates;
+  std::vector<ChunkResult> chunks;
+
+  const std::uint64_t key = run_key(options.seed, plan.id_hash);
+  const Estimator& estimator = *plan.made_estimator;
+  const Integrand& integrand = *plan.made_integrand;
+  tbb::enumerable_thread_specific<ThreadState> threads;
+
+  const auto run_chunk = [&](std::uint64_t task) {
+    if (options.interrupted != nullptr && options.interrupted->load()) return;
+    const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = thread_cpu_seconds();
+    ThreadState& state = threads.local();
+    if (!state.paths) state.paths = integrand.make_workspace();
+    state.estimates.resize(kBatchSize);
+    state.magnitudes.resize(kBatchSize);
+
+    const auto replicate =
+        first_replicate + static_cast<std::uint32_t>(task / chunks_per_replicate);
+    const std::uint64_t first = (task % chunks_per_replicate) * chunk;
+    const std::uint64_t end = std::min<std::uint64_t>(first + chunk, samples);
+    ChunkResult& out = chunks[task];
+    for (std::uint64_t batch = first; batch < end; batch += kBatchSize) {
+      BatchContext ctx{.key = key,
+                       .replicate = replicate,
+                       .first_sample = static_cast<std::uint32_t>(batch),
+                       .sample_count = static_cast<std::uint32_t>(
+                           std::min<std::uint64_t>(kBatchSize, end - batch)),
+                       .counters = &state.counters};
+      ctx.magnitudes = std::span<double>(state.magnitudes.data(), ctx.sample_count);
+      const std::span<double> estimates(state.estimates.data(), ctx.sample_count);
+      estimator.estimate_batch(ctx, *state.paths, state.scratch, estimates);
+      for (std::uint32_t i = 0; i < ctx.sample_count; ++i) {
+        out.tally.add(estimates[i], batch + i);
+        out.magnitude.add(ctx.magnitudes[i]);
+      }
+      // Checkpoints are powers of two >= 1024 (multiples of the batch size) and N: they fall on
+      // batch ends.
+      const std::uint64_t done = batch + ctx.sample_count;
+      if (done == samples || (done >= 1024 && (done & (done - 1)) == 0)) {
+        out.checkpoints.push_back({.samples = done,
+                                   .sum = out.tally.sum(),
+                                   .cpu_seconds = thread_cpu_seconds() - cpu_start,
+                                   .seconds = wall_seconds_since(start)});
+      }
+    }
+    out.cpu_seconds = thread_cpu_seconds() - cpu_start;
+    out.seconds = wall_seconds_since(start);
+    out.done = true;
+    if (options.samples_done != nullptr) {
+      options.samples_done->fetch_add(end - first, std::memory_order_relaxed);
+    }
+  };
+
+  try {
+    // Each chunk keeps as many of its largest |estimates| as the replicate's tail fit uses: the
+    // replicate's largest are then among the union of its chunks'.
+    chunks.assign(task_count, ChunkResult{.tally = Tally(kept_largest(samples))});
+    tbb::parallel_for(
+        tbb::blocked_range<std::uint64_t>(0, task_count, 1),
+        [&](const tbb::blocked_range<std::uint64_t>& range) {
+          for (std::uint64_t task = range.begin(); task != range.end(); ++task) run_chunk(task);
+        },
+        tbb::simple_partitioner());
+  } catch (const std::exception& e) {
+    result.status = RunStatus::kError;
+    result.error = e.what();
+    result.wall_seconds = wall_seconds_since(run_start);
+    return result;
+  }
+  result.wall_seconds = wall_seconds_since(run_start);
+  for (const ThreadState& state : threads) result.counters.add(state.counters);
+
+  if (!std::all_of(chunks.begin(), chunks.end(), [](const ChunkResult& c) { return c.done; })) {
+    result.status = RunStatus::kNotRun;
+    result.error = "interrupted before the run finished";
+    return result;
+  }
+
+  // Merge chunks in sample order: the same floating-point operations for any thread count.
+  result.replicates.resize(replicates);
+  for (std::uint32_t r = 0; r < replicates; ++r) {
+    Tally tally(kept_largest(samples));
+    CompensatedSum magnitude;
+    ReplicateResult& rep = result.replicates[r];
+    for (std::uint64_t c = 0; c < chunks_per_replicate; ++c) {
+      const ChunkResult& part = chunks[r * chunks_per_replicate + c];
+      // The chunks before this one are complete: add this chunk's partial sums to theirs.
+      for (const ChunkCheckpoint& point : part.checkpoints) {
+        rep.checkpoints.push_back(
+            {.samples = point.samples,
+             .estimate = (tally.sum() + point.sum) / static_cast<double>(point.samples),
+             .cpu_seconds = rep.cpu_seconds + point.cpu_seconds,
+             .seconds = rep.seconds + point.seconds});
+      }
+      tally.merge(part.tally);
+      magnitude.add(part.magnitude);
+      rep.seconds += part.seconds;
+      rep.cpu_seconds += part.cpu_seconds;
+    }
+    rep.estimate = tally.mean();
+    rep.mean_abs = magnitude.value() / static_cast<double>(samples);
+    rep.variance = tally.variance();
+    rep.n = tally.count();
+    rep.nonfinite = tally.nonfinite_count();
+    rep.first_nonfinite_sample = tally.first_nonfinite_sample();
+    rep.largest = tally.largest().sorted();
+    rep.nonzero = tally.nonzero_count();
+    rep.effective_samples = tally.effective_sample_size();
+    if (!rep.largest.empty() && tally.sum_of_squares() > 0.0) {
+      rep.largest_square_share = rep.largest.front() * rep.largest.front() / tally.sum_of_squares();
+    }
+    if (rep.first_nonfinite_sample && !result.first_nonfinite) {
+      result.first_nonfinite =
+          NonfiniteLocation{options.seed, first_replicate + r, *rep.first_nonfinite_sample};
+    }
+  }
+  result.status = result.first_nonfinite ? RunStatus::kInvalid : RunStatus::kOk;
+  if (result.first_nonfinite) {
+    result.error = fmt::format(
+        "non-finite sample estimate (first at seed {}, replicate {}, sample {})", options.seed,
+        result.first_nonfinite->replicate, result.first_nonfinite->sample);
+  }
+  return result;
+}
+
+}  // namespace pcbench

@@ -1,0 +1,333 @@
+#include "harness/session/report.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "harness/run/replay.h"
+
+namespace pcbench {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// Writes numbers of one run, recording the path of every non-finite one.
+class NumberWriter {
+ public:
+  Json number(double value, const std::string& path) {
+    if (std::isfinite(value)) return value;
+    nonfinite_.push_back(path);
+    return nullptr;
+  }
+  // A figure that is undefined by design (no reference, say): null, but not a non-finite result.
+  static Json optional_number(double value) {
+    return std::isfinite(value) ? Json(value) : Json(nullptr);
+  }
+  const std::vector<std::string>& nonfinite() const { return nonfinite_; }
+
+ private:
+  std::vector<std::string> nonfinite_;
+};
+
+Json param_value(const ParamValue& value) {
+  if (const auto* i = std::get_if<std::int64_t>(&value)) return *i;
+  if (const auto* r = std::get_if<double>(&value)) return *r;
+  return std::get<std::string>(value);
+}
+
+Json context_json(const Context& c) {
+  Json dirty = nullptr;
+  if (c.git_dirty == "true") dirty = true;
+  if (c.git_dirty == "false") dirty = false;
+  Json context{{"date", c.date},
+               {"host", c.host},
+               {"cpu", c.cpu},
+               {"cores", c.cores},
+               {"compiler", c.compiler},
+               {"flags", c.flags},
+               {"build_type", c.build_type},
+               {"git_commit", c.git_commit},
+               {"git_dirty", dirty},
+               {"argv", c.argv},
+               {"seed", c.seed},
+               {"threads", c.threads},
+               {"pcbench_version", c.version}};
+  if (c.restored_runs) context["resumed"] = Json{{"restored_runs", *c.restored_runs}};
+  return context;
+}
+
+// The reference's dof is infinite for exact references by definition: written as null, not
+// counted as a non-finite result.
+Json reference_json(const Reference& reference, NumberWriter& numbers) {
+  if (reference.kind == ReferenceKind::kNone) {
+    return Json{{"value", nullptr}, {"kind", "none"}, {"uncertainty", nullptr}, {"dof", nullptr}};
+  }
+  return Json{{"value", numbers.number(reference.value, "reference/value")},
+              {"kind", to_string(reference.kind)},
+              {"uncertainty", numbers.number(reference.uncertainty, "reference/uncertainty")},
+              {"dof", NumberWriter::optional_number(reference.dof)},
+              {"magnitude", NumberWriter::optional_number(reference.magnitude)}};
+}
+
+// Figures of a test that was not made (no reference) are null by design; those of a test that
+// was made are results, and a non-finite one is named.
+Json verdict_json(const Verdict& v, NumberWriter& numbers) {
+  const auto figure = [&](double value, const char* name) {
+    return v.tested ? numbers.number(value, fmt::format("verdict/{}", name)) : Json(nullptr);
+  };
+  return Json{
+      {"test", v.test},
+      {"statistic", figure(v.statistic, "statistic")},
+      {"dof", figure(v.dof, "dof")},
+      {"p_value", figure(v.p_value, "p_value")},
+      {"p_adjusted", figure(v.p_adjusted, "p_adjusted")},
+      {"alpha", v.alpha},
+      {"result", v.result},
+      {"reason", v.reason},
+      {"expect", v.expect},
+      {"min_detectable_bias", figure(v.min_detectable_bias, "min_detectable_bias")},
+      {"min_detectable_rel_bias",
+       v.tested && v.reference_value != 0.0
+           ? numbers.number(v.min_detectable_rel_bias, "verdict/min_detectable_rel_bias")
+           : Json(nullptr)},
+      {"min_detectable_bias_vs_mean_abs",
+       v.tested && v.mean_abs != 0.0 ? numbers.number(v.min_detectable_bias_vs_mean_abs,
+                                                      "verdict/min_detectable_bias_vs_mean_abs")
+                                     : Json(nullptr)},
+      {"rounding_bound", figure(v.rounding_bound, "rounding_bound")}};
+}
+
+// The report keeps the 16 largest |estimates| of a replicate (the tail fit used more).
+constexpr std::size_t kReportedLargest = 16;
+Json largest_abs(const std::vector<double>& largest) {
+  return Json(std::vector<double>(
+      largest.begin(),
+      largest.begin() + static_cast<std::ptrdiff_t>(std::min(largest.size(), kReportedLargest))));
+}
+
+// The earlier stages of an escalated run (empty when it ran once).
+Json escalation_json(const std::vector<StageRecord>& stages) {
+  Json out = Json::array();
+  for (const StageRecord& s : stages) {
+    out.push_back({{"id", s.id},
+                   {"samples", s.samples},
+                   {"p_value", NumberWriter::optional_number(s.p_value)},
+                   {"alpha", s.alpha},
+                   {"result", s.result},
+                   {"reason", s.reason}});
+  }
+  return out;
+}
+
+// The effective parameters of the estimator and the integrand, in one object.
+Json params_json(const ResolvedParams& resolved) {
+  Json params = Json::object();
+  for (const auto& [key, value] : resolved.values()) params[key] = param_value(value);
+  return params;
+}
+
+Json params_json(const RunPlan& plan) {
+  Json params = params_json(plan.estimator_params);
+  params.update(params_json(plan.integrand_params));
+  return params;
+}
+
+Json run_json(const RunRecord& record, std::uint64_t seed) {
+  const RunPlan& plan = *record.plan;
+  const RunResult& result = record.result;
+  NumberWriter numbers;
+  const Json params = params_json(plan);
+
+  Json replicates = Json::array();
+  for (std::size_t r = 0; r < result.replicates.size(); ++r) {
+    const ReplicateResult& rep = result.replicates[r];
+    const std::string at = fmt::format("replicates/{}/", r);
+    replicates.push_back(Json{
+        {"estimate", numbers.number(rep.estimate, at + "estimate")},
+        {"mean_abs", numbers.number(rep.mean_abs, at + "mean_abs")},
+        {"variance", result.independent_samples ? numbers.number(rep.variance, at + "variance")
+                                                : Json(nullptr)},
+        {"n", rep.n},
+        {"nonfinite", rep.nonfinite},
+        {"seconds", rep.seconds},
+        {"cpu_seconds", rep.cpu_seconds},
+        {"largest_abs", largest_abs(rep.largest)},
+        {"nonzero", rep.nonzero},
+        {"effective_samples", numbers.number(rep.effective_samples, at + "effective_samples")}});
+  }
+
+  Json aggregates = nullptr;
+  Json series = Json::array();
+  if (result.status == RunStatus::kOk || result.status == RunStatus::kInvalid) {
+    const Aggregates& a = record.aggregates;
+    const bool has_reference = result.reference.kind != ReferenceKind::kNone;
+    const auto with_reference = [&](double value, const char* name) {
+      return has_reference ? numbers.number(value, fmt::format("aggregates/{}", name))
+                           : Json(nullptr);
+    };
+    aggregates =
+        Json{{"mean", numbers.number(a.mean, "aggregates/mean")},
+             {"stderr", numbers.number(a.stderr_of_mean, "aggregates/stderr")},
+             {"bias", with_reference(a.bias, "bias")},
+             {"rmse", with_reference(a.rmse, "rmse")},
+             {"rel_mse", has_reference && result.reference.value != 0.0
+                             ? numbers.number(a.rel_mse, "aggregates/rel_mse")
+                             : Json(nullptr)},
+             {"seconds_per_sample",
+              numbers.number(a.seconds_per_sample, "aggregates/seconds_per_sample")},
+             {"efficiency", numbers.number(a.efficiency, "aggregates/efficiency")},
+             {"efficiency_low", numbers.number(a.efficiency_low, "aggregates/efficiency_low")},
+             {"efficiency_high", numbers.number(a.efficiency_high, "aggregates/efficiency_high")},
+             {"rmse_slope", has_reference && a.series.size() >= 3
+                                ? numbers.number(a.rmse_slope, "aggregates/rmse_slope")
+                                : Json(nullptr)},
+             {"mean_abs", numbers.number(a.mean_abs, "aggregates/mean_abs")}};
+    for (std::size_t k = 0; k < a.series.size(); ++k) {
+      const SeriesPoint& p = a.series[k];
+      const std::string at = fmt::format("series/{}/", k);
+      series.push_back(
+          {{"samples", p.samples},
+           {"mean", numbers.number(p.mean, at + "mean")},
+           {"stderr", numbers.number(p.stderr_of_mean, at + "stderr")},
+           {"bias", has_reference ? numbers.number(p.bias, at + "bias") : Json(nullptr)},
+           {"rmse", has_reference ? numbers.number(p.rmse, at + "rmse") : Json(nullptr)},
+           {"cpu_seconds", p.cpu_seconds},
+           {"seconds", p.seconds}});
+    }
+  }
+
+  Json first_nonfinite = nullptr;
+  if (result.first_nonfinite) {
+    first_nonfinite = Json{{"seed", seed},
+                           {"replicate", result.first_nonfinite->replicate},
+                           {"sample", result.first_nonfinite->sample}};
+    if (const auto command = replay_command(plan, *result.first_nonfinite)) {
+      first_nonfinite["replay"] = *command;
+    }
+  }
+
+  const Counters& c = result.counters;
+  Json run{{"id", plan.id},
+           {"estimator", plan.estimator->name},
+           {"integrand", plan.integrand->name},
+           {"params", params},
+           // The integrand's share of `params`: what makes runs on the same integrand comparable.
+           {"integrand_params", params_json(plan.integrand_params)},
+           {"status", to_string(result.status)},
+           {"error", result.error.empty() ? Json(nullptr) : Json(result.error)},
+           {"reference", reference_json(result.reference, numbers)},
+           {"samples", plan.samples},
+           {"replicates_requested", plan.replicates},
+           // Scene pixels of one iteration share its light pool (and plain's W·H light paths).
+           {"pool", plan.render                         ? "shared"
+                    : plan.estimator_params.has("pool") ? plan.estimator_params.text("pool")
+                                                        : "fresh"},
+           {"wall_seconds", result.wall_seconds},
+           {"replicates", replicates},
+           {"aggregates", aggregates},
+           {"verdict", record.verdict ? verdict_json(*record.verdict, numbers) : Json(nullptr)},
+           {"escalation", escalation_json(record.earlier_stages)},
+           {"budget", Json{{"seconds", plan.seconds ? Json(*plan.seconds) : Json(nullptr)},
+                           {"pilot_samples", plan.pilot_samples},
+                           {"pilot_cpu_seconds_per_sample", plan.pilot_cpu_per_sample}}},
+           {"diagnostics",
+            Json{{"tail_shape", NumberWriter::optional_number(record.diagnostics.tail_shape)},
+                 {"tail_size", record.diagnostics.tail_size},
+                 {"largest_share", NumberWriter::optional_number(record.diagnostics.largest_share)},
+                 {"nonzero_samples", record.diagnostics.nonzero},
+                 {"min_effective_samples",
+                  NumberWriter::optional_number(record.diagnostics.min_effective_samples)}}},
+           {"first_nonfinite", first_nonfinite},
+           {"counters", Json{{"camera_paths", c.camera_paths},
+                             {"light_paths", c.light_paths},
+                             {"connections", c.connections},
+                             {"importance_evaluations", c.importance_evaluations}}},
+           {"series", series}};
+  for (const auto& [name, count] : record.result.scene_counters) run["counters"][name] = count;
+  if (record.image) run["image"] = *record.image;
+  run["nonfinite_fields"] = numbers.nonfinite();
+  return run;
+}
+
+Json exact_check_json(const ExactRecord& record) {
+  const RunPlan& plan = *record.plan;
+  const ExactCheck& c = record.check;
+  return Json{{"id", plan.id},
+              {"estimator", plan.estimator->name},
+              {"integrand", plan.integrand->name},
+              {"params", params_json(plan)},
+              {"applicable", c.applicable},
+              {"M", c.M},
+              {"K", c.K},
+              {"cases", c.cases},
+              {"sequences", c.sequences},
+              {"expectation_failures", c.expectation_failures},
+              {"max_scaled_error", NumberWriter::optional_number(c.max_scaled_error)},
+              {"tolerance", kExactTolerance},
+              {"support_violations", c.support_violations},
+              {"max_multiplicity_error", NumberWriter::optional_number(c.max_multiplicity_error)},
+              {"result", c.result},
+              {"expect", record.expect},
+              {"reason", c.reason}};
+}
+
+}  // namespace
+
+std::string report_json(const Context& context, const std::string& suite_name,
+                        const std::vector<RunRecord>& runs, const ReportSections& sections) {
+  Json runs_json = Json::array();
+  for (const RunRecord& record : runs) runs_json.push_back(run_json(record, context.seed));
+  Json report{{"schema_version", kSchemaVersion},
+              {"suite", suite_name},
+              {"context", context_json(context)},
+              {"runs", runs_json},
+              {"comparisons", sections.comparisons}};
+  if (!sections.exact_checks.empty()) {
+    Json checks = Json::array();
+    for (const ExactRecord& record : sections.exact_checks) {
+      checks.push_back(exact_check_json(record));
+    }
+    report["exact_checks"] = checks;
+  }
+  if (sections.calibration) report["calibration"] = *sections.calibration;
+  if (sections.tile_calibration) report["tile_calibration"] = *sections.tile_calibration;
+  if (!sections.external.empty()) report["external"] = sections.external;
+  if (sections.image_sets) report["image_sets"] = *sections.image_sets;
+  if (!sections.efficiency_ratios.empty()) {
+    report["efficiency_ratios"] = sections.efficiency_ratios;
+  }
+  return report.dump(2) + "\n";
+}
+
+nlohmann::json verdict_to_json(const Verdict& verdict) {
+  NumberWriter numbers;
+  return verdict_json(verdict, numbers);
+}
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  std::filesystem::path temporary = path;
+  temporary += fmt::format(".{}.tmp", getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ignored;
+      std::filesystem::remove(temporary, ignored);
+      throw std::runtime_error("cannot write " + temporary.string());
+    }
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    throw std::runtime_error("cannot rename " + temporary.string() + " to " + path.string());
+  }
+}
+
+}  // namespace pcbench

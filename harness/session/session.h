@@ -1,0 +1,90 @@
+// One invocation of `pcbench run`: execute the planned runs in order, test them as one family,
+// write the report atomically, print the summary and decide the exit status.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/plan/plan.h"
+#include "harness/run/run_store.h"
+#include "harness/verify/reference_cache.h"
+#include "harness/verify/statistics.h"
+
+namespace pcbench {
+
+inline constexpr std::uint32_t kMaxStages = 3;
+inline constexpr std::uint64_t kEscalationFactor = 4;
+// A stage is borderline when not rejected but its (adjusted) p-value is within this factor of
+// the threshold it was compared with.
+inline constexpr double kBorderlineFactor = 10.0;
+
+// Exit statuses (INTERFACE.md).
+enum ExitStatus : int {
+  kExitOk = 0,
+  kExitVerdictDiffers = 1,
+  kExitBadInput = 2,
+  kExitRunFailed = 3,
+  kExitInterrupted = 130
+};
+
+struct SessionOptions {
+  std::string suite_name = "command line";
+  std::uint64_t seed = kDefaultSeed;
+  unsigned threads = 0;
+  std::optional<std::string> out_dir;  // default: results/runs/<date-time>/ + results/latest
+  bool quiet = false;
+  double alpha = kDefaultAlpha;   // family-wise
+  bool compare_pairwise = false;  // the suite's "compare": "pairwise"
+  // Sequential escalation (verify): a borderline or low-count run is run again with
+  // kEscalationFactor times the samples, up to kMaxStages stages in all. Half of alpha goes to
+  // the first stage (Holm), half is split evenly (Bonferroni) over every possible later stage
+  // of every run, so the family-wise false-alarm rate stays below alpha whatever is escalated.
+  bool escalate = false;
+  // Runs on one integrand take their replicates in turn (harness/run/interleaved_runs.h), so that
+  // their efficiency ratios compare them under the same machine load.
+  bool interleave = false;
+  // Scene runs also write the mean image of each (s, t) strategy
+  // (harness/verify/strategy_image_file.h).
+  bool strategy_images = false;
+  // Scene runs also write each replicate image (images/<id>_rep<k>.exr), for other tools and
+  // for `verify --images`.
+  bool replicate_images = false;
+  std::vector<std::string> argv;
+  const std::atomic<bool>* interrupted = nullptr;
+  // `--resume`: the interrupted session's journal, already checked against the plans. Its done
+  // runs are restored instead of run; without it a session starts a new journal in its folder.
+  std::shared_ptr<RunStore> resume;
+  // Converged scene images for the errors of scene runs (harness/verify/reference_cache.h); read
+  // only.
+  std::filesystem::path reference_cache = kDefaultReferenceCache;
+};
+
+// Writes `report` atomically as report.json in the run folder (options.out_dir, or a new
+// results/runs/<date-time>/ linked as results/latest). Returns its path, or nothing after
+// writing the reason to `err`.
+std::optional<std::filesystem::path> publish_report(const std::string& report,
+                                                    const SessionOptions& options,
+                                                    std::ostream& err);
+// The folder a session's report (and images) go to, and publishing into a folder chosen before.
+std::filesystem::path report_folder(const SessionOptions& options);
+std::optional<std::filesystem::path> publish_report(const std::string& report,
+                                                    const SessionOptions& options,
+                                                    const std::filesystem::path& folder,
+                                                    std::ostream& err);
+
+int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
+                std::ostream& err);
+
+// `pcbench verify --exact`: the enumerated check of each plan's resampling step
+// (harness/verify/exact_check.h) instead of sampled runs. Exit 0 when every check matches its
+// expectation (a negative control must come out biased), 1 otherwise.
+int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& options,
+                      std::ostream& out, std::ostream& err);
+
+}  // namespace pcbench
