@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <variant>
@@ -28,6 +29,10 @@ struct ParamSpec {
   double max = 1e300;
   bool required = false;
   bool optional = false;  // may stay unset (e.g. an expression integrand's `exact`)
+  // A parameter added to an estimator after runs were recorded: at this value (its text form)
+  // it is left out of the run's id, so those runs keep their ids and random streams
+  // (harness/plan/plan.cpp, assign_id).
+  std::optional<std::string> omitted_from_id_at = std::nullopt;
 };
 
 using ParamValue = std::variant<std::int64_t, double, std::string>;

@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build git clang-format
   libtbb-dev libfmt-dev nlohmann-json3-dev libcli11-dev libmuparser-dev libboost-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libembree-dev libopenexr-dev libimath-dev openexr libtinyobjloader-dev libopenimageio-dev pkgconf
+  libembree-dev libnanoflann-dev libopenexr-dev libimath-dev openexr libtinyobjloader-dev libopenimageio-dev pkgconf
   python3 python3-jsonschema python3-matplotlib python3-openimageio
   chromium
   clang libclang-rt-14-dev

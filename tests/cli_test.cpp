@@ -90,7 +90,7 @@ TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
       {{"run", "-e", "vc-all", "-i", "genz-gaussian", "-p", "M=0"}, "'M' = '0': out of range"},
       {{"run", "-e", "pcbpt", "-i", "door-ajar", "-p", "visibility=cache-point", "-p",
         "uniform_mix=0"},
-       "visibility=cache-point needs uniform_mix > 0"},
+       "uniform_mix = 0 needs lookup=tile and visibility=ignored"},
       {{"run", "-e", "lvc", "-i", "genz-gaussian", "-p", "K=0"}, "'K' = '0': out of range"},
       {{"run", "-e", "plain", "-i", "genz-gaussian", "-n", "-5"}, "--samples"},
       {{"run", "-e", "plain", "-i", "genz-gaussian", "-p", "light_dims=40"}, "[1, 32]"},

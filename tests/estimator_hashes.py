@@ -31,11 +31,19 @@ import tempfile
 SCENE_ESTIMATORS = ["pt", "lt", "plain", "vc-all", "lvc", "pcbpt", "ctl-scene-visible-only",
                     "ctl-scene-lvc-per-vertex"]
 SCENES = ["furnace", "cornell", "cornell-glossy", "door-ajar"]
+# pcbpt's legacy tile design (estimators/scene/pcbpt.h names each choice's legacy value): its
+# runs keep the ids, random streams and numbers they had before the published design.
+PCBPT_LEGACY = ["-p", "M=1024", "-p", "K=8", "-p", "uniform_mix=0.1", "-p", "cache=tile-first-hit",
+                "-p", "lookup=tile", "-p", "cache_importance=connection", "-p", "floor=0",
+                "-p", "light_tracing=M"]
 # Arguments after `pcbench run`; the grid's visibility and guide are read by pcbpt only.
 COMMANDS = {
     "scenes": ["-e", ",".join(SCENE_ESTIMATORS), "-i", ",".join(SCENES),
                "-p", "resolution=32", "-p", "visibility=ignored,cache-point",
                "-p", "guide=first,all", "-n", "4", "-r", "2", "-s", "1", "--strategy-images"],
+    "pcbpt-legacy": ["-e", "pcbpt", "-i", ",".join(SCENES), "-p", "resolution=32",
+                     "-p", "visibility=ignored,cache-point", "-p", "guide=first,all"]
+                    + PCBPT_LEGACY + ["-n", "4", "-r", "2", "-s", "1", "--strategy-images"],
     # Every row of the default suite (113 runs) at 2048 samples x 4 replicates instead of its
     # 10^5-10^6 x 32, which would take minutes.
     "analytic": ["suites/default.json", "-n", "2048", "-r", "4", "-s", "1"],
@@ -90,7 +98,11 @@ def hash_runs(binary, tool, source, name, args, threads, scratch):
         value = determined(run, out, tool)
         digest = hashlib.sha256(json.dumps(value, sort_keys=True).encode()).hexdigest()
         label = f"{run['estimator']} {run['integrand']} {json.dumps(run.get('params'))}"
-        runs[run["id"]] = {"run": label, "hash": digest}
+        # The numbers alone, without the parameters the report lists: a run whose parameter
+        # list grew (a new parameter at its legacy value) keeps them.
+        numbers = {k: v for k, v in value.items() if k != "params"}
+        runs[run["id"]] = {"run": label, "hash": digest, "numbers": hashlib.sha256(
+            json.dumps(numbers, sort_keys=True).encode()).hexdigest()}
     return runs
 
 

@@ -11,7 +11,8 @@ Usage (ctest `scenes.family`, label ci):
    self-checks' "2xMDB injected" comparisons were not flagged once the session's Holm family
    adjusted them again (exit 1). Now every tile comparison states its per-tile share
    alpha / (m T), m the session's tested verdicts, and the run exits 0.
-2. `verify -e CONTROL` for each scene control: it renders the control and its declared honest
+2. `verify -e CONTROL` for each scene control (the visible-only one also with
+   `-p design=published`): it renders the control and its declared honest
    partner, the tile comparison flags the control, exit 0.
 Prints one line per check and "N passed, M failed"; exits 1 if any check failed.
 """
@@ -25,7 +26,11 @@ import tempfile
 ALPHA = 0.01
 TILE_TESTS_32 = 16 * 3  # 4x4 tiles of 8x8 pixels, 3 channels
 SCENES = ["furnace", "cornell", "cornell-glossy", "door-ajar", "lampshade"]
-CONTROLS = {"ctl-scene-visible-only": "door-ajar", "ctl-scene-lvc-per-vertex": "cornell"}
+# (control, its scene, extra parameters): the visible-only control in pcbpt's legacy tile design
+# and in the published one (zero visibility floor, no mixing).
+CONTROLS = [("ctl-scene-visible-only", "door-ajar", []),
+            ("ctl-scene-visible-only", "door-ajar", ["-p", "design=published"]),
+            ("ctl-scene-lvc-per-vertex", "cornell", [])]
 
 passed = 0
 failed = 0
@@ -84,10 +89,11 @@ def family_power(pcbench, folder):
 
 
 def controls_alone(pcbench, folder):
-    for control, scene in CONTROLS.items():
-        out = os.path.join(folder, control)
-        proc, report = run(pcbench, ["verify", "-e", control], out)
-        check(proc.returncode == 0, f"verify -e {control} exits 0 (got {proc.returncode})")
+    for n, (control, scene, extra) in enumerate(CONTROLS):
+        out = os.path.join(folder, f"{control}-{n}")
+        proc, report = run(pcbench, ["verify", "-e", control] + extra, out)
+        check(proc.returncode == 0,
+              f"verify -e {control} {' '.join(extra)} exits 0 (got {proc.returncode})")
         if report is None:
             check(False, f"{control} wrote a report")
             continue

@@ -308,6 +308,35 @@ NamedEstimator example_nee() {
   return {e.name, e.make_render(resolve_params(e.scene_params, {}, e.name))};
 }
 
+// pcbpt's ablations (estimators/scene/pcbpt.h): each element of the published design replaced by
+// its legacy value, and the legacy tile design whole. Their strategy counts differ (light tracing
+// from M or W·H paths, K draws), and so do their renderings.
+std::vector<NamedEstimator> pcbpt_ablations(ParamText base = {}) {
+  const std::vector<std::pair<std::string, ParamText>> ablations = {
+      {"pcbpt cache=tile-first-hit lookup=tile", {{"cache", "tile-first-hit"}, {"lookup", "tile"}}},
+      {"pcbpt lookup=tile guide=all", {{"lookup", "tile"}, {"guide", "all"}}},
+      {"pcbpt floor=0", {{"floor", "0"}}},
+      {"pcbpt visibility=ignored cache_importance=connection",
+       {{"visibility", "ignored"}, {"cache_importance", "connection"}}},
+      {"pcbpt light_tracing=M", {{"light_tracing", "M"}}},
+      {"pcbpt legacy",
+       {{"K", "8"},
+        {"uniform_mix", "0.1"},
+        {"cache", "tile-first-hit"},
+        {"lookup", "tile"},
+        {"cache_importance", "connection"},
+        {"visibility", "ignored"},
+        {"floor", "0"},
+        {"light_tracing", "M"}}}};
+  std::vector<NamedEstimator> out;
+  for (const auto& [name, params] : ablations) {
+    ParamText all = base;
+    all.insert(params.begin(), params.end());
+    out.push_back({name, make_scene_estimator("pcbpt", all)});
+  }
+  return out;
+}
+
 // Every scene estimator of the registry at its defaults (pool sizes and draw counts of a typical
 // run: they set StrategyCounts), and the example (registered in pcbench_examples only).
 std::vector<NamedEstimator> every_estimator() {
@@ -318,6 +347,7 @@ std::vector<NamedEstimator> every_estimator() {
     }
   }
   out.push_back(example_nee());
+  for (NamedEstimator& ablation : pcbpt_ablations()) out.push_back(std::move(ablation));
   return out;
 }
 
@@ -501,10 +531,19 @@ std::vector<NamedEstimator> render_configs() {
           example_nee()};
 }
 
+// The same with pcbpt's ablations at the small pool.
+std::vector<NamedEstimator> render_configs_with_ablations() {
+  std::vector<NamedEstimator> out = render_configs();
+  for (NamedEstimator& a :
+       pcbpt_ablations({{"M", "256"}, {"K", "4"}, {"tile", "4"}, {"grid", "4"}}))
+    out.push_back(std::move(a));
+  return out;
+}
+
 TEST(SceneRenderFurnace, EveryMethodIsUnbiased) {
   const Scene scene(small_furnace());
   const Rgb reference = furnace_radiance(3);
-  for (const NamedEstimator& method : render_configs()) {
+  for (const NamedEstimator& method : render_configs_with_ablations()) {
     SCOPED_TRACE(method.name);
     // Per replicate and channel, the image's mean over all pixels.
     std::vector<Rgb> means;

@@ -6,7 +6,10 @@
 // cache point sees none draws nothing at all. Light reaching a tile past an occluder its cache
 // point sits behind is lost: biased low where visibility changes within a tile (door-ajar). In
 // a convex furnace every cache point sees every light vertex and it is honest. Parameters and
-// defaults are pcbpt's (PcbptConfig, pcbpt.h): M (1024), K (8), tile (8).
+// defaults are the legacy ones of pcbpt (PcbptConfig, pcbpt.h): M (1024), K (8), tile (8).
+// design=published: the same mistake in the published design (pcbpt's defaults with floor 0 and
+// u = 0; a cache point that sees nothing draws nothing): light its Nc nearest cache points cannot
+// see is never drawn for a camera vertex that can.
 // Declared workload: door-ajar, 16 spp × 16 replicates.
 #include "estimators/scene/pcbpt.h"
 #include "estimators/scene/scene_estimators.h"
@@ -14,17 +17,34 @@
 namespace pcbench {
 
 EstimatorEntry ctl_scene_visible_only_entry() {
-  const scene::PcbptConfig d;
+  const scene::PcbptConfig d{.draws = 8};
   EstimatorEntry e = scene_only_entry(
       "ctl-scene-visible-only",
       "scenes: pcbpt with importance zero where the tile's cache point sees no light, no mixing",
-      {.params = {light_paths_spec(d.light_paths), vertex_draws_spec(d.draws), tile_spec(d.tile)},
+      {.params = {light_paths_spec(d.light_paths),
+                  vertex_draws_spec(d.draws),
+                  tile_spec(d.tile),
+                  {.name = "design",
+                   .type = ParamType::kChoice,
+                   .default_value = "tile",
+                   .description = "pcbpt's legacy tile design, or the published one (cache points "
+                                  "at every depth, nearest-cache mixture) with floor 0",
+                   .choices = {"tile", "published"},
+                   .omitted_from_id_at = "tile"}},
        .make =
            [](const ResolvedParams& p) {
              scene::PcbptConfig c;
              c.light_paths = static_cast<std::uint32_t>(p.integer("M"));
              c.draws = static_cast<std::uint32_t>(p.integer("K"));
              c.tile = static_cast<std::uint32_t>(p.integer("tile"));
+             if (p.text("design") == "tile") {
+               // The legacy tile design (pcbpt.h names each choice's legacy value).
+               c.light_tracing_pixels = false;
+               c.every_depth = false;
+               c.nearest_lookup = false;
+               c.light_importance = false;
+             }
+             c.visibility_floor = 0.0;
              c.uniform_mix = 0.0;
              c.cache_visibility = true;
              c.unseen_tiles_draw_nothing = true;

@@ -1,153 +1,216 @@
-// pcbpt on scenes: probabilistic connections (Popov et al., "Probabilistic Connections for
-// Bidirectional Path Tracing", CGF 34(4), EGSR 2015).
+// pcbpt on scenes: probabilistic connections (Popov, Ramamoorthi, Durand, Drettakis,
+// "Probabilistic Connections for Bidirectional Path Tracing", CGF 34(4), EGSR 2015).
 //
-// Estimates the image with M light subpaths per iteration shared by every pixel. Each screen
-// tile of `tile` × `tile` pixels has a cache point, the first hit through its centre (fixed for
-// the replicate, so the guidance depends on no pool). Per iteration and tile, P over the pool's
-// N_v light vertices is proportional to the unoccluded connection value at the cache point
-// (largest channel; with visibility=cache-point times the cache point's visibility), mixed with
-// uniform: P_i = (1 - u) w_i / Σ w + u / N_v. The first vertex of every camera subpath (t = 2)
-// draws K light vertices from its tile's P, each weighted 1 / (K M P_i); deeper camera vertices
-// draw uniformly, weighted N_v / (K M), as the light vertex cache does (guide=all: every vertex
-// from the tile's P). Connection strategies count K samples per pixel and iteration, emitter
-// hits 1, light tracing M:
-//     <I_j> = Σ_t [ w_{0,t} f / p_{0,t} + Σ_{k<K} 1/(K M P_{ξk}) w_{s_k,t} f / p_{s_k,t} ] + lt.
-// Unbiased wherever P > 0 where f > 0: always with u > 0.
-// Parameters on scenes (defaults in PcbptConfig, pcbpt.h): M (1024), K (8), uniform_mix u
-// (0.1), tile (8), guide first|all (first), visibility ignored|cache-point (ignored; needs
-// u > 0).
+// Estimates the image with a pool of light subpaths per iteration shared by every pixel: its
+// first M paths' N_v vertices x_i (emitter vertices too) are the connections' candidates, and
+// light tracing (t = 1) splats every pool path, max(M, W·H) of them as BDPT splats W·H.
+// Cache points y_c are the non-specular vertices, at every camera depth, of cache paths traced
+// once per replicate through the centres of `grid` × `grid` pixel blocks (fixed per replicate,
+// independent of every pool). Per iteration each cache point gets a PMF over the candidates,
+//     P_c(i) = q_c(i) / Σ_j q_c(j),   q_c(i) = max channel of β(x_i) f(x_i → y_c) G(x_i, y_c)
+//     V_c(i),
+// the light subpath's contribution towards y_c without the camera-side BSDF, V_c(i) = 1 when
+// y_c sees x_i and `floor` when not (0: exact). A camera vertex y_{t-1} (t >= 2) finds its Nc
+// nearest cache points C (kd-tree, estimators/scene/cache_points.h) and draws K candidates from
+//     p(i) = u / N_v + (1 - u) / |C| Σ_{c∈C} P_c(i)
+// (a cache point that sees nothing counts as uniform), each connection weighted 1 / (K M p(i)):
+//     <I_j> = Σ_t [ w_{0,t} f / p_{0,t} + Σ_{k<K} 1/(K M p(ξ_k)) w_{s_k,t} f / p_{s_k,t} ] + lt.
+// Unbiased wherever p > 0 where f > 0: always with u > 0. The balance weights count K samples per
+// connection strategy, 1 per emitter hit and the pool size for light tracing.
+//
+// Every choice is a parameter (defaults: the published design; PcbptConfig, pcbpt.h, names the
+// legacy value of each): M (1024), K (3), uniform_mix u (0.25), cache every-depth|tile-first-hit,
+// grid (16), tile (8), lookup nearest|tile, Nc (3), guide first|all, cache_importance
+// light|connection, visibility cache-point|ignored, floor (0.02), light_tracing pixels|M. The
+// legacy values (cache=tile-first-hit lookup=tile cache_importance=connection floor=0
+// light_tracing=M with M=1024 K=8 uniform_mix=0.1 tile=8) are the tile design pcbench had before,
+// bit for bit: one cache point per tile at the first hit, its P mixed with uniform, deeper vertices
+// uniform (guide=first). Public sources of the defaults: cache points at every depth from a grid of
+// about 1/16 of the pixels per axis, K = 3, three nearest cache points and a uniform share of 0.25,
+// importance without the camera-side BSDF, occluded entries scaled by 0.02 (README, "pcbpt's
+// parameters").
 #include "estimators/scene/pcbpt.h"
 
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <vector>
 
 #include "base/errors.h"
 #include "estimators/discrete_sampler.h"
 #include "estimators/resampling_step.h"
+#include "estimators/scene/cache_mixture.h"
+#include "estimators/scene/cache_points.h"
 #include "estimators/scene/scene_estimators.h"
 #include "estimators/scene/vertex_draws.h"
+#include "integrands/scenes/bsdf.h"
 
 namespace pcbench {
 namespace scene {
 namespace {
+
+constexpr std::uint32_t kMaxNearest = 64;  // NearestCachePoints::find's limit
+
+// β(x) f(x → y) G(x, y), largest channel: the light subpath's contribution towards y without
+// y's BSDF (0 for a specular x, which no connection uses).
+double light_importance(const Scene& scene, const PathVertex& x, const PathVertex& y) {
+  if (x.delta) return 0.0;
+  const Vec3 d = y.position - x.position;
+  const double distance_squared = dot(d, d);
+  if (distance_squared == 0.0) return 0.0;
+  const Vec3 w = d * (1.0 / std::sqrt(distance_squared));
+  const Rgb f = x.kind == VertexKind::kEmitter
+                    ? emitted_towards(scene, x, w)
+                    : bsdf_value(scene.material(x.triangle), x.normal, x.to_previous, w).f;
+  return (x.beta * f).max_channel() * (abs_cos_at(x, w) * abs_cos_at(y, w) / distance_squared);
+}
 
 class ProbabilisticPass final : public ScenePass {
  public:
   ProbabilisticPass(const RenderServices& services, const PcbptConfig& config)
       : services_(services),
         config_(config),
-        tiles_x_((services.width() + config.tile - 1) / config.tile),
-        tiles_y_((services.height() + config.tile - 1) / config.tile) {
-    trace_cache_points();
+        caches_(services, config.every_depth ? config.grid : config.tile, !config.every_depth) {
+    if (config_.nearest_lookup) nearest_.emplace(caches_.points());
   }
 
   void prepare(const LightPool& pool, TraceCounters& counters) override {
     vertices_ = light_vertices(pool);
-    build_tile_distributions(pool, counters);
+    // The candidates are the first M paths' vertices (light_vertices lists them path by path).
+    const auto first_past = std::find_if(vertices_.begin(), vertices_.end(),
+                                         [&](const LightVertexRef& v) { return v.path >= m(); });
+    vertices_.erase(first_past, vertices_.end());
+    build_distributions(pool, counters);
   }
 
   Rgb connections(const LightPool& pool, CameraPrefix& prefix) const override {
     if (vertices_.empty()) return {};
-    // The tile's cache point stands for the first camera vertex only (unless guide_all): deeper
-    // vertices lie elsewhere and draw uniformly, as the light vertex cache does.
-    if (!config_.guide_all && prefix.t() > 2) {
-      return connect_drawn_vertices(
-          services_, pool, vertices_, prefix, config_.draws,
-          uniform_vertex_draw(vertices_.size(), pool.paths.size(), config_.draws));
+    if (config_.nearest_lookup) return connect_from_mixture(pool, prefix);
+    // lookup=tile: the block's cache point at this depth; deeper than its cache path, the first
+    // hit's (guide=all) or a uniform draw, as the light vertex cache does.
+    const std::uint32_t block = caches_.block_of(prefix.pixel);
+    std::optional<std::uint32_t> cache = caches_.at(block, prefix.t() - 1);
+    if (!cache && config_.guide_all) cache = caches_.at(block, 1);
+    if (!cache) {
+      return connect_drawn_vertices(services_, pool, vertices_, prefix, config_.draws,
+                                    uniform_vertex_draw(vertices_.size(), m(), config_.draws));
     }
-    const std::uint32_t tile = tile_of(prefix.pixel);
-    if (!tile_has_draws_[tile]) return {};
+    const std::vector<double>& pmf = caches_at_[*cache].pmf;
+    if (pmf.empty()) return {};
     const double k = config_.draws;
-    const double m = static_cast<double>(pool.paths.size());
-    const std::vector<double>& pmf = tile_pmf_[tile];
-    const DiscreteSampler& sampler = tile_sampler_[tile];
+    const double paths = m();
+    const DiscreteSampler& sampler = caches_at_[*cache].sampler;
     return connect_drawn_vertices(services_, pool, vertices_, prefix, config_.draws,
                                   [&](RandomStream& draws) {
                                     const std::uint32_t index = sampler.draw(draws);
-                                    return VertexDraw{index, 1.0 / (k * m * pmf[index])};
+                                    return VertexDraw{index, 1.0 / (k * paths * pmf[index])};
                                   });
   }
 
  private:
-  std::uint32_t tile_of(std::uint32_t pixel) const {
-    const std::uint32_t x = pixel % services_.width(), y = pixel / services_.width();
-    return (y / config_.tile) * tiles_x_ + x / config_.tile;
+  std::uint32_t m() const { return config_.light_paths; }
+
+  // K draws from the mixture of the nearest cache points' P and the uniform share, each
+  // weighted by the mixture's exact PMF (cache_mixture.h).
+  Rgb connect_from_mixture(const LightPool& pool, CameraPrefix& prefix) const {
+    std::uint32_t near[kMaxNearest];
+    const std::uint32_t found =
+        nearest_->find(prefix.vertices.back().position, config_.nearest, near);
+    const CacheMixture mixture(caches_at_, std::span<const std::uint32_t>(near, found),
+                               static_cast<std::uint32_t>(vertices_.size()), config_.uniform_mix);
+    const double k = config_.draws;
+    const double paths = m();
+    return connect_drawn_vertices(
+        services_, pool, vertices_, prefix, config_.draws, [&](RandomStream& draws) {
+          const std::optional<std::uint32_t> index =
+              mixture.draw(draws, config_.unseen_tiles_draw_nothing);
+          if (!index) return VertexDraw{0, 0.0};
+          return VertexDraw{*index, 1.0 / (k * paths * mixture.pmf(*index))};
+        });
   }
 
-  void trace_cache_points() {
-    const double width = services_.width(), height = services_.height();
-    TraceCounters ignored;
-    cache_paths_.resize(std::size_t{tiles_x_} * tiles_y_);
-    for (std::uint32_t ty = 0; ty < tiles_y_; ++ty) {
-      for (std::uint32_t tx = 0; tx < tiles_x_; ++tx) {
-        const double cx = std::min<double>(width, (tx + 0.5) * config_.tile);
-        const double cy = std::min<double>(height, (ty + 0.5) * config_.tile);
-        RandomStream unused(services_.stream(StreamPurpose::kEstimatorAux, 0, ty * tiles_x_ + tx));
-        trace_camera_path(services_.scene(), std::min(cx, width - 0.5), std::min(cy, height - 0.5),
-                          unused, 1, cache_paths_[ty * tiles_x_ + tx], ignored);
+  // q_c(i) for every candidate at cache point c; the shadow rays are counted as connect()
+  // counts its own (skipped in a convex enclosure, where nothing is occluded).
+  void importance_at(const LightPool& pool, const CachePoint& cache, std::vector<double>& q,
+                     TraceCounters& counters) const {
+    const Scene& scene = services_.scene();
+    const ConnectOptions unoccluded{.visibility = false, .weighted = false};
+    for (std::uint32_t i = 0; i < q.size(); ++i) {
+      const std::span<const PathVertex> light = light_prefix(pool, vertices_[i]);
+      double value =
+          config_.light_importance
+              ? light_importance(scene, light.back(), cache.vertex())
+              : services_.connect(light, cache.camera, unoccluded, counters).max_channel();
+      if (value > 0.0 && config_.cache_visibility) {
+        if (scene.traits().convex_enclosure) {
+          ++counters.skipped_convex;
+        } else {
+          ++counters.shadow_rays;
+          if (scene.occluded(light.back().position, cache.vertex().position)) {
+            ++counters.occluded;
+            value *= config_.visibility_floor;
+          }
+        }
       }
+      q[i] = value;
     }
   }
 
-  void build_tile_distributions(const LightPool& pool, TraceCounters& counters) {
-    const std::size_t tiles = cache_paths_.size();
-    const std::uint32_t n = static_cast<std::uint32_t>(vertices_.size());
-    tile_pmf_.assign(tiles, {});
-    tile_sampler_.assign(tiles, {});
-    tile_has_draws_.assign(tiles, 0);
+  void build_distributions(const LightPool& pool, TraceCounters& counters) {
+    const std::span<const CachePoint> points = caches_.points();
+    const std::size_t caches = points.size();
+    const auto n = static_cast<std::uint32_t>(vertices_.size());
+    caches_at_.assign(caches, {});
     if (n == 0) return;
-    const ResamplingStep step(StepConfig{.M = n,
-                                         .K = config_.draws,
-                                         .selection = Selection::kImportance,
-                                         .scheme = DrawScheme::kIndependent,
-                                         .uniform_mix = config_.uniform_mix,
-                                         .sampler = DiscreteSamplerKind::kAlias});
-    std::vector<TraceCounters> tile_counters(tiles);
-    tbb::parallel_for(std::size_t{0}, tiles, [&](std::size_t tile) {
-      std::vector<double> importance(n, 0.0);
-      const Subpath& cache = cache_paths_[tile];
-      if (cache.size() == 2) {
-        const ConnectOptions options{.visibility = config_.cache_visibility, .weighted = false};
-        for (std::uint32_t i = 0; i < n; ++i) {
-          importance[i] =
-              services_
-                  .connect(light_prefix(pool, vertices_[i]), cache, options, tile_counters[tile])
-                  .max_channel();
-        }
-      }
+    // lookup=tile mixes the uniform share into each P; the nearest lookup mixes at draw time.
+    const ResamplingStep step(
+        StepConfig{.M = n,
+                   .K = config_.draws,
+                   .selection = Selection::kImportance,
+                   .scheme = DrawScheme::kIndependent,
+                   .uniform_mix = config_.nearest_lookup ? 0.0 : config_.uniform_mix,
+                   .sampler = DiscreteSamplerKind::kAlias});
+    std::vector<TraceCounters> cache_counters(caches);
+    tbb::parallel_for(std::size_t{0}, caches, [&](std::size_t c) {
+      std::vector<double> q(n, 0.0);
+      if (!points[c].camera.empty()) importance_at(pool, points[c], q, cache_counters[c]);
       double total = 0.0;
-      for (double w : importance) total += w;
-      // With no mixing and nothing visible there is nothing to draw from (the control's bias).
-      if (config_.unseen_tiles_draw_nothing && total == 0.0) return;
-      step.build_pmf(PoolView{.importance = importance}, tile_pmf_[tile]);
-      tile_sampler_[tile].build(tile_pmf_[tile], DiscreteSamplerKind::kAlias);
-      tile_has_draws_[tile] = 1;
+      for (double w : q) total += w;
+      if (total == 0.0) {
+        // The nearest lookup counts it as uniform; lookup=tile mixes zero with uniform, except in
+        // the control, whose tile then draws nothing (its bias).
+        if (config_.nearest_lookup || config_.unseen_tiles_draw_nothing) return;
+      }
+      step.build_pmf(PoolView{.importance = q}, caches_at_[c].pmf);
+      caches_at_[c].sampler.build(caches_at_[c].pmf, DiscreteSamplerKind::kAlias);
     });
-    for (const TraceCounters& c : tile_counters) counters.add(c);
+    for (const TraceCounters& c : cache_counters) counters.add(c);
   }
 
   const RenderServices& services_;
   PcbptConfig config_;
-  std::uint32_t tiles_x_, tiles_y_;
-  std::vector<Subpath> cache_paths_;  // per tile: the camera vertex and its first hit
-  // Per iteration: the pool's vertices and, per tile, P over them and its sampler.
+  CachePoints caches_;
+  std::optional<NearestCachePoints> nearest_;
+  // Per iteration: the candidates and, per cache point, P over them and its sampler (none when it
+  // sees nothing, except under lookup=tile, which mixes zero with uniform).
   std::vector<LightVertexRef> vertices_;
-  std::vector<std::vector<double>> tile_pmf_;
-  std::vector<DiscreteSampler> tile_sampler_;
-  // One byte per tile, not std::vector<bool>: tiles are built in parallel, and the bits of a
-  // vector<bool> share words, so two tiles' writes would race and one could be lost.
-  std::vector<std::uint8_t> tile_has_draws_;
+  std::vector<CacheDistribution> caches_at_;
 };
 
 class Probabilistic final : public SceneEstimator {
  public:
   explicit Probabilistic(const PcbptConfig& config) : config_(config) {}
 
-  std::uint32_t pool_size(const Scene&) const override { return config_.light_paths; }
-  StrategyCounts strategy_counts(const Scene&) const override {
-    return vertex_draw_counts(config_.light_paths, config_.draws);
+  std::uint32_t pool_size(const Scene& scene) const override {
+    if (!config_.light_tracing_pixels) return config_.light_paths;
+    return std::max(config_.light_paths, scene.description().width * scene.description().height);
+  }
+  StrategyCounts strategy_counts(const Scene& scene) const override {
+    StrategyCounts counts = vertex_draw_counts(config_.light_paths, config_.draws);
+    counts.light_tracing = pool_size(scene);
+    return counts;
   }
   std::unique_ptr<ScenePass> begin_replicate(const RenderServices& services) const override {
     return std::make_unique<ProbabilisticPass>(services, config_);
@@ -157,34 +220,82 @@ class Probabilistic final : public SceneEstimator {
   PcbptConfig config_;
 };
 
-ParamSpec mix_spec(double default_value) {
-  return {.name = "uniform_mix",
-          .type = ParamType::kReal,
-          .default_value = to_text(default_value),
-          .description = "fraction of P spread uniformly over the light vertices",
-          .min = 0.0,
-          .max = 1.0};
+ParamSpec choice_spec(std::string name, std::string value, std::vector<std::string> choices,
+                      std::string legacy, std::string description) {
+  return {.name = std::move(name),
+          .type = ParamType::kChoice,
+          .default_value = std::move(value),
+          .description = std::move(description),
+          .choices = std::move(choices),
+          .omitted_from_id_at = std::move(legacy)};
 }
 
-ParamSpec guide_spec(bool all) {
-  return {.name = "guide",
-          .type = ParamType::kChoice,
-          .default_value = all ? "all" : "first",
-          .description =
-              "camera vertices drawn from the tile's P: the first (deeper ones "
-              "uniformly), or all",
-          .choices = {"first", "all"}};
-}
-
-ParamSpec visibility_spec(bool cache_point) {
-  return {.name = "visibility",
-          .type = ParamType::kChoice,
-          .default_value = cache_point ? "cache-point" : "ignored",
-          .description =
-              "importance at the cache point: the unoccluded connection value (ignored), or "
-              "times its visibility (cache-point: one shadow ray per tile and light vertex; "
-              "needs uniform_mix > 0)",
-          .choices = {"ignored", "cache-point"}};
+std::vector<ParamSpec> pcbpt_params() {
+  const PcbptConfig d;
+  ParamSpec mix = {.name = "uniform_mix",
+                   .type = ParamType::kReal,
+                   .default_value = to_text(d.uniform_mix),
+                   .description =
+                       "defensive share of every draw spread uniformly over the "
+                       "light vertices",
+                   .min = 0.0,
+                   .max = 1.0};
+  ParamSpec grid = tile_spec(d.grid);
+  grid.name = "grid";
+  grid.description =
+      "cache=every-depth: pixels per side of the block one cache path is traced "
+      "through";
+  grid.omitted_from_id_at = to_text(std::int64_t{d.grid});
+  ParamSpec nearest = {.name = "Nc",
+                       .type = ParamType::kInt,
+                       .default_value = std::to_string(d.nearest),
+                       .description = "lookup=nearest: cache points a camera vertex mixes",
+                       .min = 1,
+                       .max = kMaxNearest,
+                       .omitted_from_id_at = std::to_string(d.nearest)};
+  ParamSpec floor = {.name = "floor",
+                     .type = ParamType::kReal,
+                     .default_value = to_text(d.visibility_floor),
+                     .description =
+                         "visibility=cache-point: factor of an occluded entry's "
+                         "importance (0: exact)",
+                     .min = 0.0,
+                     .max = 1.0,
+                     .omitted_from_id_at = to_text(0.0)};
+  ParamSpec m = light_paths_spec(d.light_paths);
+  m.description = "light paths whose vertices are the connections' candidates";
+  return {m,
+          vertex_draws_spec(d.draws),
+          mix,
+          choice_spec("cache", "every-depth", {"every-depth", "tile-first-hit"}, "tile-first-hit",
+                      "cache points at every camera depth of paths from a grid, or one per tile "
+                      "at the first hit"),
+          grid,
+          tile_spec(d.tile),
+          choice_spec("lookup", "nearest", {"nearest", "tile"}, "tile",
+                      "a camera vertex draws from its Nc nearest cache points (kd-tree), or "
+                      "from its block's at its depth"),
+          nearest,
+          {.name = "guide",
+           .type = ParamType::kChoice,
+           .default_value = d.guide_all ? "all" : "first",
+           .description = "lookup=tile: a vertex deeper than its block's cache points draws "
+                          "uniformly (first) or from the first hit's P (all)",
+           .choices = {"first", "all"}},
+          choice_spec("cache_importance", "light", {"light", "connection"}, "connection",
+                      "a light vertex's importance at a cache point: its contribution without "
+                      "the camera-side BSDF (light), or the whole connection value (connection)"),
+          {.name = "visibility",
+           .type = ParamType::kChoice,
+           .default_value = d.cache_visibility ? "cache-point" : "ignored",
+           .description = "importance times the cache point's visibility of the light vertex "
+                          "(cache-point: one shadow ray per cache point and light vertex), or "
+                          "unoccluded (ignored)",
+           .choices = {"ignored", "cache-point"}},
+          floor,
+          choice_spec("light_tracing", "pixels", {"pixels", "M"}, "M",
+                      "light tracing from max(M, W·H) paths as BDPT splats, or from the M "
+                      "candidates")};
 }
 
 PcbptConfig read_config(const ResolvedParams& p) {
@@ -192,16 +303,23 @@ PcbptConfig read_config(const ResolvedParams& p) {
   c.light_paths = static_cast<std::uint32_t>(p.integer("M"));
   c.draws = static_cast<std::uint32_t>(p.integer("K"));
   c.uniform_mix = p.real("uniform_mix");
+  c.every_depth = p.text("cache") == "every-depth";
+  c.grid = static_cast<std::uint32_t>(p.integer("grid"));
   c.tile = static_cast<std::uint32_t>(p.integer("tile"));
+  c.nearest_lookup = p.text("lookup") == "nearest";
+  c.nearest = static_cast<std::uint32_t>(p.integer("Nc"));
   c.guide_all = p.text("guide") == "all";
+  c.light_importance = p.text("cache_importance") == "light";
   c.cache_visibility = p.text("visibility") == "cache-point";
-  // Light the cache point cannot see may reach other pixels of its tile: only the uniform share
-  // keeps P > 0 for it (without it this is the control ctl-scene-visible-only).
-  if (c.cache_visibility && !(c.uniform_mix > 0.0)) {
+  c.visibility_floor = p.real("floor");
+  c.light_tracing_pixels = p.text("light_tracing") == "pixels";
+  // A camera vertex sees light its cache points do not (occluded from them, or behind their
+  // surface): only the uniform share keeps p > 0 for it.
+  if (!(c.uniform_mix > 0.0) && (c.nearest_lookup || c.cache_visibility)) {
     throw InputError(
-        "visibility=cache-point needs uniform_mix > 0: without mixing, light vertices the cache "
-        "point cannot see are never drawn for the pixels of its tile that can (biased; that is "
-        "the negative control ctl-scene-visible-only)");
+        "uniform_mix = 0 needs lookup=tile and visibility=ignored: without mixing, light "
+        "vertices the cache points cannot see are never drawn for camera vertices that can "
+        "(biased; that is the negative control ctl-scene-visible-only)");
   }
   return c;
 }
@@ -215,10 +333,7 @@ std::shared_ptr<const SceneEstimator> make_pcbpt(const PcbptConfig& config) {
 }  // namespace scene
 
 SceneForm pcbpt_scene_form() {
-  const scene::PcbptConfig d;
-  return {.params = {light_paths_spec(d.light_paths), vertex_draws_spec(d.draws),
-                     scene::mix_spec(d.uniform_mix), tile_spec(d.tile),
-                     scene::guide_spec(d.guide_all), scene::visibility_spec(d.cache_visibility)},
+  return {.params = scene::pcbpt_params(),
           .make = [](const ResolvedParams& p) { return scene::make_pcbpt(scene::read_config(p)); }};
 }
 

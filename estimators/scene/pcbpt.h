@@ -1,5 +1,8 @@
-// Probabilistic connections (pcbpt.cpp), configurable for its negative control
-// (ctl_scene_visible_only.cpp).
+// Probabilistic connections (pcbpt.cpp), configurable for its ablations and its negative control
+// (ctl_scene_visible_only.cpp). The defaults are the published design; the comments name the
+// legacy value of each choice (the tile design pcbench had before: cache=tile-first-hit,
+// lookup=tile, cache_importance=connection, visibility=ignored, light_tracing=M, M=1024, K=8,
+// uniform_mix=0.1, mis=balance), which reproduces that estimator bit for bit.
 #pragma once
 
 #include <cstdint>
@@ -10,18 +13,33 @@
 namespace pcbench::scene {
 
 struct PcbptConfig {
-  std::uint32_t light_paths = 1024;  // M
-  std::uint32_t draws = 8;           // K per camera vertex
-  double uniform_mix = 0.1;          // u
-  std::uint32_t tile = 8;            // pixels per side of a cache tile
-  // Guide every camera vertex by its tile's cache point, not just the first one (the cache
-  // point is a first hit; deeper vertices are elsewhere and are drawn uniformly).
+  // M: light paths whose vertices are the connections' candidates (legacy 1024).
+  std::uint32_t light_paths = 1024;
+  // Light tracing (t = 1) from W·H paths as BDPT splats (the pool is max(M, W·H) and its first
+  // M paths are the candidates), or from the M candidates only (legacy).
+  bool light_tracing_pixels = true;
+  std::uint32_t draws = 3;    // K per camera vertex (legacy 8)
+  double uniform_mix = 0.25;  // u, the defensive uniform share (legacy 0.1)
+  // Cache points at every non-specular depth of cache paths from a grid of `grid` × `grid`
+  // pixel blocks, or one per `tile` × `tile` tile at the first hit (legacy).
+  bool every_depth = true;
+  std::uint32_t grid = 16;
+  std::uint32_t tile = 8;
+  // A camera vertex draws from the mixture of its `nearest` nearest cache points (kd-tree) and
+  // the uniform share, or from its block's cache point at its own depth (legacy lookup=tile).
+  bool nearest_lookup = true;
+  std::uint32_t nearest = 3;  // Nc
+  // lookup=tile: a vertex deeper than its block's cache points draws from the first hit's P
+  // (guide=all), or uniformly (guide=first, legacy).
   bool guide_all = false;
-  // The importance at the cache point includes its visibility to the light vertex (one shadow
-  // ray per tile and light vertex). Light blocked at the cache point may still reach other
-  // pixels of the tile, so this is unbiased only with uniform_mix > 0, which pcbpt's parameters
-  // require; without mixing it is the negative control.
-  bool cache_visibility = false;
+  // Importance of light vertex x at cache point y: x's throughput × its BSDF (or emission)
+  // towards y × G(x, y), without the camera side (cache_importance=light), or the whole unweighted
+  // connection value through the cache path (cache_importance=connection, legacy).
+  bool light_importance = true;
+  // Visibility of x from y in the importance (one shadow ray per cache point and light vertex):
+  // an occluded entry is scaled by `floor` (0: exact, only the uniform share keeps its support).
+  bool cache_visibility = true;
+  double visibility_floor = 0.02;
   // The control's mistake with it: a tile whose cache point sees no light vertex draws nothing
   // (with u = 0 its P is all zero), although its other pixels may see some.
   bool unseen_tiles_draw_nothing = false;

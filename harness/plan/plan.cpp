@@ -137,7 +137,15 @@ std::uint64_t run_id_hash(const std::string& estimator, const std::string& integ
 
 void assign_id(RunPlan& plan) {
   std::map<std::string, std::string> effective;
-  for (const auto& [key, value] : plan.estimator_params.values()) effective[key] = to_text(value);
+  const std::vector<ParamSpec>& specs =
+      is_scene(*plan.integrand) ? plan.estimator->scene_params : plan.estimator->params;
+  for (const auto& [key, value] : plan.estimator_params.values()) {
+    const auto spec =
+        std::find_if(specs.begin(), specs.end(), [&](const ParamSpec& s) { return s.name == key; });
+    const std::string text = to_text(value);
+    if (spec != specs.end() && spec->omitted_from_id_at == text) continue;
+    effective[key] = text;
+  }
   for (const auto& [key, value] : plan.integrand_params.values()) effective[key] = to_text(value);
   // No parameter name starts with '@': the budget cannot collide with a parameter.
   if (plan.seconds) effective["@seconds"] = fmt::format("{}", *plan.seconds);

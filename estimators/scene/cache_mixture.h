@@ -1,0 +1,69 @@
+// The draw of probabilistic connections at one camera vertex (pcbpt.cpp): the mixture of its
+// nearest cache points' P and a uniform share u over the N_v candidates,
+//     p(i) = u / N_v + (1 - u) / |C| Σ_{c∈C} P_c(i),
+// a cache point without a P (it sees nothing) counting as uniform. draw() follows the mixture's
+// branches (uniform with probability u, else one cache point uniformly, then its P), and pmf()
+// is the exact probability of that draw, which the connection's weight 1 / (K M p) uses;
+// tests/cache_mixture_test.cpp enumerates the branches against it.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "base/rng.h"
+#include "estimators/discrete_sampler.h"
+
+namespace pcbench::scene {
+
+// One cache point's distribution over the candidates (empty pmf: none, counts as uniform).
+struct CacheDistribution {
+  std::vector<double> pmf;
+  DiscreteSampler sampler;
+};
+
+class CacheMixture {
+ public:
+  // `caches` must outlive the mixture; `nearest` indexes them (empty: the draw is uniform).
+  CacheMixture(std::span<const CacheDistribution> caches, std::span<const std::uint32_t> nearest,
+               std::uint32_t candidates, double uniform_mix)
+      : caches_(caches),
+        nearest_(nearest),
+        n_(candidates),
+        u_(nearest.empty() ? 1.0 : uniform_mix),
+        share_(nearest.empty() ? 0.0 : (1.0 - u_) / static_cast<double>(nearest.size())) {}
+
+  double uniform_share() const { return u_; }
+  std::span<const std::uint32_t> nearest() const { return nearest_; }
+
+  // The drawn candidate, or none when `empty_draws_nothing` and the chosen cache point has no P
+  // (the negative control's mistake).
+  std::optional<std::uint32_t> draw(RandomStream& rng, bool empty_draws_nothing = false) const {
+    if (rng.uniform() < u_) return rng.uniform_index(n_);
+    const CacheDistribution& c =
+        caches_[nearest_[rng.uniform_index(static_cast<std::uint32_t>(nearest_.size()))]];
+    if (c.pmf.empty()) {
+      if (empty_draws_nothing) return std::nullopt;
+      return rng.uniform_index(n_);
+    }
+    return c.sampler.draw(rng);
+  }
+
+  double pmf(std::uint32_t index) const {
+    const double uniform = 1.0 / n_;
+    double p = u_ * uniform;
+    for (std::uint32_t c : nearest_) {
+      p += share_ * (caches_[c].pmf.empty() ? uniform : caches_[c].pmf[index]);
+    }
+    return p;
+  }
+
+ private:
+  std::span<const CacheDistribution> caches_;
+  std::span<const std::uint32_t> nearest_;
+  std::uint32_t n_;
+  double u_, share_;
+};
+
+}  // namespace pcbench::scene
