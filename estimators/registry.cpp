@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "base/errors.h"
+#include "base/name_lookup.h"
 #include "base/nearest_name.h"
 #include "estimators/family_params.h"
 #include "estimators/negative_controls.h"
@@ -72,12 +73,9 @@ void register_scene_estimator(EstimatorEntry entry) {
 
 const EstimatorEntry& find_estimator(const std::string& name) {
   std::vector<std::string> names;
-  for (const auto* table : {&estimator_registry(), &scene_estimator_registry()}) {
-    for (const EstimatorEntry& entry : *table) {
-      if (entry.name == name) return entry;
-      names.push_back(entry.name);
-    }
-  }
+  const EstimatorEntry* found =
+      find_by_name({&estimator_registry(), &scene_estimator_registry()}, name, names);
+  if (found) return *found;
   throw InputError(fmt::format("unknown estimator '{}'{}; valid estimators: {}", name,
                                did_you_mean(name, names), join_names(names)));
 }

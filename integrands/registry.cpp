@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "base/errors.h"
+#include "base/name_lookup.h"
 #include "base/nearest_name.h"
 #include "integrands/blocker.h"
 #include "integrands/door.h"
@@ -106,12 +107,9 @@ const std::vector<IntegrandEntry>& scene_registry() {
 
 const IntegrandEntry& find_integrand(const std::string& name) {
   std::vector<std::string> names;
-  for (const auto* table : {&integrand_registry(), &scene_registry()}) {
-    for (const IntegrandEntry& entry : *table) {
-      if (entry.name == name) return entry;
-      names.push_back(entry.name);
-    }
-  }
+  const IntegrandEntry* found =
+      find_by_name({&integrand_registry(), &scene_registry()}, name, names);
+  if (found) return *found;
   // A scene file: read once, then kept for the life of the process (entries are referenced).
   if (name.size() > 5 && name.ends_with(".json")) {
     static std::mutex mutex;

@@ -11,6 +11,7 @@
 #include <optional>
 #include <ostream>
 
+#include "base/comma_list.h"
 #include "base/errors.h"
 #include "harness/commands/calibration.h"
 #include "harness/commands/compare_command.h"
@@ -97,13 +98,7 @@ std::map<std::string, std::vector<std::string>> params_from_flags(const RunArgum
       values.push_back(value);
       continue;
     }
-    std::size_t start = 0;
-    while (true) {
-      const auto comma = value.find(',', start);
-      values.push_back(value.substr(start, comma - start));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
+    values = split_commas(value);
   }
   return params;
 }

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
+#include "base/comma_list.h"
 #include "base/errors.h"
 #include "harness/session/report.h"
 #include "harness/verify/image_statistics.h"
@@ -24,10 +25,7 @@ using Json = nlohmann::ordered_json;
 
 std::vector<double> parse_numbers(const std::string& text, const char* option) {
   std::vector<double> values;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', start);
-    const std::string part = text.substr(start, comma - start);
+  for (const std::string& part : split_commas(text)) {
     double value = 0.0;
     const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
     if (part.empty() || error != std::errc() || end != part.data() + part.size() ||
@@ -36,8 +34,6 @@ std::vector<double> parse_numbers(const std::string& text, const char* option) {
           fmt::format("command line: {} '{}': '{}' is not a finite number", option, text, part));
     }
     values.push_back(value);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
   }
   return values;
 }

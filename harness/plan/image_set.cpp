@@ -13,6 +13,7 @@
 #include <map>
 #include <string_view>
 
+#include "base/comma_list.h"
 #include "base/errors.h"
 #include "base/text_hash.h"
 
@@ -94,17 +95,12 @@ std::vector<std::string> image_set_files(const std::string& set, const std::stri
     }
     return files;
   }
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = set.find(',', start);
-    const std::string file = set.substr(start, comma - start);
+  for (const std::string& file : split_commas(set)) {
     if (file.empty()) {
       throw InputError(
           fmt::format("command line: {} '{}': an empty file name in the list", option, set));
     }
     files.push_back(file);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
   }
   return files;
 }

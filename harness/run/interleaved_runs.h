@@ -9,12 +9,9 @@
 #include <cstdint>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "harness/plan/plan.h"
 #include "harness/run/progress.h"
 #include "harness/run/runner.h"
-#include "harness/session/report.h"
 
 namespace pcbench {
 
@@ -27,11 +24,5 @@ std::vector<std::vector<std::size_t>> same_integrand_groups(
 // not_run, as in a plain session.
 std::vector<RunResult> execute_interleaved(const std::vector<const RunPlan*>& plans,
                                            const RunnerOptions& base, ProgressReporter& progress);
-
-// Per group of finished analytic runs on one integrand: each run's efficiency relative to the
-// group's first honest run, in the report's `efficiency_ratios` form. Scenes are left out: the
-// variance of their image means is not their image error (their `image` section gives the
-// relative MSE at equal time instead).
-nlohmann::json efficiency_ratios_json(const std::vector<RunRecord>& records, bool interleaved);
 
 }  // namespace pcbench

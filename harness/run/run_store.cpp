@@ -9,8 +9,8 @@
 #include <ostream>
 #include <sstream>
 
+#include "base/atomic_file.h"
 #include "base/errors.h"
-#include "harness/session/report.h"
 
 namespace pcbench {
 namespace {

@@ -15,12 +15,14 @@
 
 #include <unistd.h>
 
+#include "base/atomic_file.h"
 #include "harness/run/equal_time.h"
 #include "harness/run/interleaved_runs.h"
 #include "harness/run/progress.h"
 #include "harness/run/replay.h"
 #include "harness/session/report.h"
 #include "harness/session/summary.h"
+#include "harness/verify/efficiency_ratio.h"
 #include "harness/verify/report_compare.h"
 #include "harness/verify/rounding_bound.h"
 #include "harness/verify/statistics.h"

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "harness/run/interleaved_runs.h"
 #include "harness/run/tally.h"
 
 namespace pcbench {
@@ -61,6 +62,56 @@ EfficiencyRatio efficiency_ratio(std::span<const double> estimates_a, std::span<
   out.low = out.variance_low * out.cost_low;
   out.high = out.variance_high * out.cost_high;
   out.valid = true;
+  return out;
+}
+
+nlohmann::json efficiency_ratios_json(const std::vector<RunRecord>& records, bool interleaved) {
+  std::vector<const RunPlan*> plans;
+  for (const RunRecord& r : records) plans.push_back(r.plan);
+  nlohmann::json out = nlohmann::json::array();
+  for (const std::vector<std::size_t>& group : same_integrand_groups(plans)) {
+    std::vector<const RunRecord*> finished;
+    for (std::size_t i : group) {
+      const RunRecord& r = records[i];
+      if (r.result.status == RunStatus::kOk && !r.plan->render) finished.push_back(&r);
+    }
+    const auto baseline = std::find_if(finished.begin(), finished.end(), [](const RunRecord* r) {
+      return !r->plan->estimator->biased;
+    });
+    if (baseline == finished.end()) continue;
+    const auto columns = [](const RunRecord& r) {
+      std::pair<std::vector<double>, std::vector<double>> c;
+      for (const ReplicateResult& rep : r.result.replicates) {
+        c.first.push_back(rep.estimate);
+        c.second.push_back(rep.cpu_seconds);
+      }
+      return c;
+    };
+    const auto [estimates_a, cpu_a] = columns(**baseline);
+    for (const RunRecord* b : finished) {
+      if (b == *baseline) continue;
+      const auto [estimates_b, cpu_b] = columns(*b);
+      const EfficiencyRatio e = efficiency_ratio(estimates_a, cpu_a, estimates_b, cpu_b);
+      if (!e.valid) continue;
+      out.push_back(
+          {{"integrand", b->plan->integrand->name},
+           {"a", (*baseline)->plan->id},
+           {"b", b->plan->id},
+           {"estimator", b->plan->estimator->name + " vs " + (*baseline)->plan->estimator->name},
+           {"ratio", e.ratio},
+           {"low", e.low},
+           {"high", e.high},
+           {"level", kEfficiencyRatioLevel},
+           {"variance_ratio", e.variance_ratio},
+           {"variance_low", e.variance_low},
+           {"variance_high", e.variance_high},
+           {"cost_ratio", e.cost_ratio},
+           {"cost_low", e.cost_low},
+           {"cost_high", e.cost_high},
+           {"pairs", e.pairs},
+           {"interleaved", interleaved}});
+    }
+  }
   return out;
 }
 

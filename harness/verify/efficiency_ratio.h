@@ -17,6 +17,11 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/verify/run_record.h"
 
 namespace pcbench {
 
@@ -39,5 +44,11 @@ struct EfficiencyRatio {
 EfficiencyRatio efficiency_ratio(std::span<const double> estimates_a, std::span<const double> cpu_a,
                                  std::span<const double> estimates_b,
                                  std::span<const double> cpu_b);
+
+// Per group of finished analytic runs on one integrand: each run's efficiency relative to the
+// group's first honest run, in the report's `efficiency_ratios` form. Scenes are left out: the
+// variance of their image means is not their image error (their `image` section gives the
+// relative MSE at equal time instead).
+nlohmann::json efficiency_ratios_json(const std::vector<RunRecord>& records, bool interleaved);
 
 }  // namespace pcbench

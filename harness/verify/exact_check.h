@@ -41,4 +41,11 @@ struct ExactCheck {
 // Checks the plan's estimator on the plan's integrand, the cases drawn from `seed`.
 ExactCheck exact_check(const RunPlan& plan, std::uint64_t seed);
 
+// The exact check of one planned run (`verify --exact`) and what it was expected to find.
+struct ExactRecord {
+  const RunPlan* plan = nullptr;
+  ExactCheck check = {};
+  std::string expect = {};
+};
+
 }  // namespace pcbench

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "base/atomic_file.h"
 #include "base/text_hash.h"
-#include "harness/session/report.h"
 #include "harness/verify/image_statistics.h"
 #include "results/exr_file.h"
 

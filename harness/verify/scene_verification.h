@@ -10,10 +10,10 @@
 #include <utility>
 #include <vector>
 
-#include "harness/session/report.h"
 #include "harness/verify/image_statistics.h"
 #include "harness/verify/reference_cache.h"
 #include "harness/verify/report_compare.h"
+#include "harness/verify/run_record.h"
 #include "harness/verify/statistics.h"
 
 namespace pcbench {
