@@ -11,6 +11,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "base/atomic_file.h"
 #include "base/errors.h"
 #include "harness/run/run_store.h"
 #include "harness/session/report.h"
