@@ -64,12 +64,36 @@ def run_pcbench(binary, args, cwd):
     return proc.returncode, proc.stdout, proc.stderr
 
 
+def wait_for_sigint_handler(pid, timeout):
+    """Waits until process `pid` catches SIGINT (Linux: bit 2 of SigCgt in /proc/PID/status).
+    pcbench installs its handler first thing in main(), but loading its libraries can take
+    seconds on a loaded machine, and a SIGINT before that kills it (status -2), which is not
+    what the test is about. Elsewhere it waits 1 s."""
+    status_file = f"/proc/{pid}/status"
+    if not os.path.exists(status_file):
+        time.sleep(1.0)
+        return
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            with open(status_file) as f:
+                caught = next((int(line.split()[1], 16) for line in f
+                               if line.startswith("SigCgt:")), 0)
+        except OSError:
+            return  # it has ended
+        if caught & (1 << (signal.SIGINT - 1)):
+            return
+        time.sleep(0.05)
+
+
 def run_and_interrupt(binary, args, cwd):
-    """Starts pcbench, sends SIGINT 1 s in (during its first run, which takes ~10 s; or before it
-    starts on a loaded machine: either way no run finishes); returns (status, out, err)."""
+    """Starts pcbench, sends SIGINT 1 s after its handler is installed (during its first run,
+    which takes ~10 s; or before it starts on a loaded machine: either way no run finishes);
+    returns (status, out, err)."""
     proc = subprocess.Popen([binary] + args, cwd=cwd, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, encoding="utf-8", errors="replace")
     first = ""
+    wait_for_sigint_handler(proc.pid, timeout=60)
     time.sleep(1.0)
     if proc.poll() is not None:
         out, err = proc.communicate()
