@@ -139,10 +139,12 @@ void assign_id(RunPlan& plan) {
   std::map<std::string, std::string> effective;
   const std::vector<ParamSpec>& specs =
       is_scene(*plan.integrand) ? plan.estimator->scene_params : plan.estimator->params;
-  for (const auto& [key, value] : plan.estimator_params.values()) {
+  for (const auto& entry : plan.estimator_params.values()) {
+    // The pair, not a structured binding: clang 14 (the sanitizer build) cannot capture one.
+    const std::string& key = entry.first;
     const auto spec =
         std::find_if(specs.begin(), specs.end(), [&](const ParamSpec& s) { return s.name == key; });
-    const std::string text = to_text(value);
+    const std::string text = to_text(entry.second);
     if (spec != specs.end() && spec->omitted_from_id_at == text) continue;
     effective[key] = text;
   }
