@@ -11,9 +11,9 @@
 // path_vertex.cpp and connection.cpp. Last, every honest estimator renders the built-in furnace
 // to its exact radiance (SceneRenderFurnace), and the image does not depend on the thread count.
 //
-// Error budget: only SceneRenderFurnace is statistical: 7 estimators × 3 channels t tests, each
-// asserting p > 1e-4, so a correct renderer fails by chance with probability at most
-// 21 × 1e-4 = 2.1e-3 (Bonferroni). The seeds are fixed.
+// Error budget: only SceneRenderFurnace is statistical: 15 configurations (7 estimators and 8
+// pcbpt ablations) × 3 channels t tests, each asserting p > 1e-4, so a correct renderer fails by
+// chance with probability at most 45 × 1e-4 = 4.5e-3 (Bonferroni). The seeds are fixed.
 
 #include <gtest/gtest.h>
 
@@ -319,6 +319,8 @@ std::vector<NamedEstimator> pcbpt_ablations(ParamText base = {}) {
       {"pcbpt visibility=ignored cache_importance=connection",
        {{"visibility", "ignored"}, {"cache_importance", "connection"}}},
       {"pcbpt light_tracing=M", {{"light_tracing", "M"}}},
+      {"pcbpt mis=resampling", {{"mis", "resampling"}}},
+      {"pcbpt cache_importance=weighted", {{"cache_importance", "weighted"}}},
       {"pcbpt legacy",
        {{"K", "8"},
         {"uniform_mix", "0.1"},
@@ -390,6 +392,80 @@ void check_weights(const Scene& scene, const std::vector<FullPath>& paths) {
     }
   }
   EXPECT_GT(checked, paths.size());  // several methods per path
+}
+
+// A count model (connection.h) that depends on both things it is given, the light side's
+// importance and the camera-side end's position, as pcbpt's mis=resampling does.
+class TestCountModel final : public ConnectionCountModel {
+ public:
+  double count(double importance, const Vec3& camera_end, double constant) const override {
+    if (importance < 0.0) return constant;
+    return constant * (0.1 + importance) * (1.0 + camera_end.y * camera_end.y);
+  }
+};
+
+// q*_s of strategy s (light vertices z_k .. z_{k-s+1}, camera-side end z_{k-s}), from the
+// positions: the light prefix's throughput × its last vertex's emission or BSDF towards z_{k-s}
+// × G; -1 when a vertex of the light prefix after the emitter is specular.
+double light_side_importance(const Scene& scene, const FullPath& p, const PathFacts& f,
+                             std::size_t s) {
+  const std::size_t k = p.k(), end = k - s + 1;
+  for (std::size_t i = end; i < k; ++i) {
+    if (is_delta(scene.material(p.z[i].triangle))) return -1.0;
+  }
+  const Rgb towards = end == k ? emission(scene, p) : scattering(scene, p, end, end + 1, end - 1);
+  return (f.light_beta[end] * towards).max_channel() * geometry(p, end, end - 1);
+}
+
+// With path-dependent counts, each weight is still the balance heuristic over the counts the
+// model gives every strategy of the path, and they sum to 1.
+void check_weights_with_a_count_model(const Scene& scene, const std::vector<FullPath>& paths) {
+  const TestCountModel model;
+  StrategyCounts counts = make_scene_estimator("pcbpt")->strategy_counts(scene);
+  counts.model = &model;
+  std::size_t checked = 0, varied = 0;
+  for (std::size_t n = 0; n < paths.size(); ++n) {
+    const FullPath& p = paths[n];
+    const PathFacts f = facts(scene, p);
+    if (!usable(f)) continue;
+    const std::size_t k = p.k();
+    SCOPED_TRACE("path " + std::to_string(n) + " k " + std::to_string(k));
+    std::vector<double> c(k + 1, 0.0);
+    double total = 0.0;
+    for (std::size_t s = 0; s <= k; ++s) {
+      c[s] = counts.count(static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(k + 1 - s));
+      if (s >= 1 && k + 1 - s >= 2 && c[s] > 0.0) {
+        const double changed =
+            model.count(light_side_importance(scene, p, f, s), p.z[k - s].position, c[s]);
+        varied += changed != c[s];
+        c[s] = changed;
+      }
+      if (c[s] > 0.0 && possible(p, s)) total += c[s] * strategy_pdf(f, s);
+    }
+    if (total == 0.0) continue;
+    double sum = 0.0;
+    for (std::size_t s = 0; s <= k; ++s) {
+      if (c[s] <= 0.0 || !possible(p, s)) continue;
+      const Split parts = split(scene, p, f, s);
+      const double w = mis_weight(scene, parts.light, parts.camera, counts);
+      EXPECT_NEAR(w, c[s] * strategy_pdf(f, s) / total, 1e-9) << "s " << s;
+      sum += w;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-9);
+    ++checked;
+  }
+  EXPECT_GT(checked, paths.size() / 2);
+  EXPECT_GT(varied, checked);  // the model changed counts on most paths
+}
+
+TEST(SceneMisWeights, PathCountsSumToOne) {
+  for (const std::string name : {"furnace", "cornell", "cornell-glossy"}) {
+    SCOPED_TRACE(name);
+    const Scene scene = scene_named(name);
+    check_weights_with_a_count_model(scene, camera_paths(scene, 100, 500));
+  }
+  const Scene scene(cornell_with_point_light());
+  check_weights_with_a_count_model(scene, light_paths(scene, 100, 600));
 }
 
 TEST(SceneMisWeights, SumToOneInTheFurnace) {

@@ -42,7 +42,7 @@ EstimatorEntry ctl_scene_visible_only_entry() {
                c.light_tracing_pixels = false;
                c.every_depth = false;
                c.nearest_lookup = false;
-               c.light_importance = false;
+               c.importance = scene::PcbptConfig::Importance::kConnection;
              }
              c.visibility_floor = 0.0;
              c.uniform_mix = 0.0;

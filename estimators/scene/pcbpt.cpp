@@ -43,6 +43,7 @@
 #include "estimators/resampling_step.h"
 #include "estimators/scene/cache_mixture.h"
 #include "estimators/scene/cache_points.h"
+#include "estimators/scene/resampling_counts.h"
 #include "estimators/scene/scene_estimators.h"
 #include "estimators/scene/vertex_draws.h"
 #include "integrands/scenes/bsdf.h"
@@ -74,15 +75,26 @@ class ProbabilisticPass final : public ScenePass {
         config_(config),
         caches_(services, config.every_depth ? config.grid : config.tile, !config.every_depth) {
     if (config_.nearest_lookup) nearest_.emplace(caches_.points());
+    if (config_.resampling_mis) {
+      resampling_counts_.emplace(caches_.points(), m(), config_.draws, config_.uniform_mix);
+    }
   }
 
   void prepare(const LightPool& pool, TraceCounters& counters) override {
+    // The counts of this iteration's weights come from the previous iteration's tables.
+    if (resampling_counts_ && !totals_.empty()) {
+      resampling_counts_->learn(totals_, static_cast<std::uint32_t>(vertices_.size()));
+    }
     vertices_ = light_vertices(pool);
     // The candidates are the first M paths' vertices (light_vertices lists them path by path).
     const auto first_past = std::find_if(vertices_.begin(), vertices_.end(),
                                          [&](const LightVertexRef& v) { return v.path >= m(); });
     vertices_.erase(first_past, vertices_.end());
     build_distributions(pool, counters);
+  }
+
+  const ConnectionCountModel* count_model() const override {
+    return resampling_counts_ ? &*resampling_counts_ : nullptr;
   }
 
   Rgb connections(const LightPool& pool, CameraPrefix& prefix) const override {
@@ -136,11 +148,12 @@ class ProbabilisticPass final : public ScenePass {
   void importance_at(const LightPool& pool, const CachePoint& cache, std::vector<double>& q,
                      TraceCounters& counters) const {
     const Scene& scene = services_.scene();
-    const ConnectOptions unoccluded{.visibility = false, .weighted = false};
+    const ConnectOptions unoccluded{
+        .visibility = false, .weighted = config_.importance == PcbptConfig::Importance::kWeighted};
     for (std::uint32_t i = 0; i < q.size(); ++i) {
       const std::span<const PathVertex> light = light_prefix(pool, vertices_[i]);
       double value =
-          config_.light_importance
+          config_.importance == PcbptConfig::Importance::kLight
               ? light_importance(scene, light.back(), cache.vertex())
               : services_.connect(light, cache.camera, unoccluded, counters).max_channel();
       if (value > 0.0 && config_.cache_visibility) {
@@ -163,6 +176,7 @@ class ProbabilisticPass final : public ScenePass {
     const std::size_t caches = points.size();
     const auto n = static_cast<std::uint32_t>(vertices_.size());
     caches_at_.assign(caches, {});
+    totals_.assign(caches, 0.0);
     if (n == 0) return;
     // lookup=tile mixes the uniform share into each P; the nearest lookup mixes at draw time.
     const ResamplingStep step(
@@ -178,6 +192,7 @@ class ProbabilisticPass final : public ScenePass {
       if (!points[c].camera.empty()) importance_at(pool, points[c], q, cache_counters[c]);
       double total = 0.0;
       for (double w : q) total += w;
+      totals_[c] = total;
       if (total == 0.0) {
         // The nearest lookup counts it as uniform; lookup=tile mixes zero with uniform, except in
         // the control, whose tile then draws nothing (its bias).
@@ -197,6 +212,9 @@ class ProbabilisticPass final : public ScenePass {
   // sees nothing, except under lookup=tile, which mixes zero with uniform).
   std::vector<LightVertexRef> vertices_;
   std::vector<CacheDistribution> caches_at_;
+  // mis=resampling: the counts, and Σ_i q_c(i) per cache point of the latest tables.
+  std::optional<ResamplingCounts> resampling_counts_;
+  std::vector<double> totals_;
 };
 
 class Probabilistic final : public SceneEstimator {
@@ -264,38 +282,46 @@ std::vector<ParamSpec> pcbpt_params() {
                      .omitted_from_id_at = to_text(0.0)};
   ParamSpec m = light_paths_spec(d.light_paths);
   m.description = "light paths whose vertices are the connections' candidates";
-  return {m,
-          vertex_draws_spec(d.draws),
-          mix,
-          choice_spec("cache", "every-depth", {"every-depth", "tile-first-hit"}, "tile-first-hit",
-                      "cache points at every camera depth of paths from a grid, or one per tile "
-                      "at the first hit"),
-          grid,
-          tile_spec(d.tile),
-          choice_spec("lookup", "nearest", {"nearest", "tile"}, "tile",
-                      "a camera vertex draws from its Nc nearest cache points (kd-tree), or "
-                      "from its block's at its depth"),
-          nearest,
-          {.name = "guide",
-           .type = ParamType::kChoice,
-           .default_value = d.guide_all ? "all" : "first",
-           .description = "lookup=tile: a vertex deeper than its block's cache points draws "
-                          "uniformly (first) or from the first hit's P (all)",
-           .choices = {"first", "all"}},
-          choice_spec("cache_importance", "light", {"light", "connection"}, "connection",
-                      "a light vertex's importance at a cache point: its contribution without "
-                      "the camera-side BSDF (light), or the whole connection value (connection)"),
-          {.name = "visibility",
-           .type = ParamType::kChoice,
-           .default_value = d.cache_visibility ? "cache-point" : "ignored",
-           .description = "importance times the cache point's visibility of the light vertex "
-                          "(cache-point: one shadow ray per cache point and light vertex), or "
-                          "unoccluded (ignored)",
-           .choices = {"ignored", "cache-point"}},
-          floor,
-          choice_spec("light_tracing", "pixels", {"pixels", "M"}, "M",
-                      "light tracing from max(M, W·H) paths as BDPT splats, or from the M "
-                      "candidates")};
+  return {
+      m,
+      vertex_draws_spec(d.draws),
+      mix,
+      choice_spec("cache", "every-depth", {"every-depth", "tile-first-hit"}, "tile-first-hit",
+                  "cache points at every camera depth of paths from a grid, or one per tile "
+                  "at the first hit"),
+      grid,
+      tile_spec(d.tile),
+      choice_spec("lookup", "nearest", {"nearest", "tile"}, "tile",
+                  "a camera vertex draws from its Nc nearest cache points (kd-tree), or "
+                  "from its block's at its depth"),
+      nearest,
+      {.name = "guide",
+       .type = ParamType::kChoice,
+       .default_value = d.guide_all ? "all" : "first",
+       .description = "lookup=tile: a vertex deeper than its block's cache points draws "
+                      "uniformly (first) or from the first hit's P (all)",
+       .choices = {"first", "all"}},
+      choice_spec("cache_importance", "light", {"light", "connection", "weighted"}, "connection",
+                  "a light vertex's importance at a cache point: its contribution without "
+                  "the camera-side BSDF (light), the whole connection value (connection), or "
+                  "that value MIS-weighted (weighted)"),
+      {.name = "visibility",
+       .type = ParamType::kChoice,
+       .default_value = d.cache_visibility ? "cache-point" : "ignored",
+       .description = "importance times the cache point's visibility of the light vertex "
+                      "(cache-point: one shadow ray per cache point and light vertex), or "
+                      "unoccluded (ignored)",
+       .choices = {"ignored", "cache-point"}},
+      floor,
+      choice_spec("light_tracing", "pixels", {"pixels", "M"}, "M",
+                  "light tracing from max(M, W·H) paths as BDPT splats, or from the M "
+                  "candidates"),
+      choice_spec("mis", d.resampling_mis ? "resampling" : "balance", {"balance", "resampling"},
+                  "balance",
+                  "the balance heuristic counts K samples per connection strategy "
+                  "(balance), or the draws' effective samples of the path's light vertex, "
+                  "K M p̄ from the previous iteration's tables (resampling, "
+                  "estimators/scene/resampling_counts.h)")};
 }
 
 PcbptConfig read_config(const ResolvedParams& p) {
@@ -309,10 +335,19 @@ PcbptConfig read_config(const ResolvedParams& p) {
   c.nearest_lookup = p.text("lookup") == "nearest";
   c.nearest = static_cast<std::uint32_t>(p.integer("Nc"));
   c.guide_all = p.text("guide") == "all";
-  c.light_importance = p.text("cache_importance") == "light";
+  const std::string importance = p.text("cache_importance");
+  c.importance = importance == "light"        ? PcbptConfig::Importance::kLight
+                 : importance == "connection" ? PcbptConfig::Importance::kConnection
+                                              : PcbptConfig::Importance::kWeighted;
   c.cache_visibility = p.text("visibility") == "cache-point";
   c.visibility_floor = p.real("floor");
   c.light_tracing_pixels = p.text("light_tracing") == "pixels";
+  c.resampling_mis = p.text("mis") == "resampling";
+  if (c.resampling_mis && !c.nearest_lookup) {
+    throw InputError(
+        "mis=resampling needs lookup=nearest: its counts are a function of where a path's "
+        "vertices are, which lookup=tile (by pixel) is not");
+  }
   // A camera vertex sees light its cache points do not (occluded from them, or behind their
   // surface): only the uniform share keeps p > 0 for it.
   if (!(c.uniform_mix > 0.0) && (c.nearest_lookup || c.cache_visibility)) {

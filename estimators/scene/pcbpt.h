@@ -33,13 +33,18 @@ struct PcbptConfig {
   // (guide=all), or uniformly (guide=first, legacy).
   bool guide_all = false;
   // Importance of light vertex x at cache point y: x's throughput × its BSDF (or emission)
-  // towards y × G(x, y), without the camera side (cache_importance=light), or the whole unweighted
-  // connection value through the cache path (cache_importance=connection, legacy).
-  bool light_importance = true;
+  // towards y × G(x, y), without the camera side (kLight), or the whole unweighted connection
+  // value through the cache path (kConnection, legacy), or that value with the connection's MIS
+  // weight (kWeighted: what the connection would add to the cache path's pixel).
+  enum class Importance { kLight, kConnection, kWeighted };
+  Importance importance = Importance::kLight;
   // Visibility of x from y in the importance (one shadow ray per cache point and light vertex):
   // an occluded entry is scaled by `floor` (0: exact, only the uniform share keeps its support).
   bool cache_visibility = true;
   double visibility_floor = 0.02;
+  // MIS counts of the connection strategies: K each (mis=balance, legacy), or the resampled
+  // draws' effective samples of the path's light vertex (mis=resampling, resampling_counts.h).
+  bool resampling_mis = false;
   // The control's mistake with it: a tile whose cache point sees no light vertex draws nothing
   // (with u = 0 its P is all zero), although its other pixels may see some.
   bool unseen_tiles_draw_nothing = false;

@@ -43,8 +43,9 @@ ReplicateImage render_replicate(const Scene& scene, const SceneEstimator& estima
     strategies.emplace(counts, scene.description().max_length, scene.description().width,
                        scene.description().height);
   }
-  const RenderServices services(scene, counts, key, replicate, strategies ? &*strategies : nullptr);
+  RenderServices services(scene, counts, key, replicate, strategies ? &*strategies : nullptr);
   const std::unique_ptr<ScenePass> pass = estimator.begin_replicate(services);
+  services.use_count_model(pass->count_model());
   for (std::uint32_t i = 0; i < iterations; ++i) {
     if (interrupted && interrupted->load()) break;
     iterate(estimator, services, *pass, i, out.image, out.counters);

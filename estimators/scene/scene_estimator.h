@@ -48,6 +48,11 @@ class ScenePass {
   // vertices: their sum, each MIS-weighted by RenderServices::connect and its share recorded by
   // RenderServices::record (the strategy images must add up to the image).
   virtual Rgb connections(const LightPool& pool, CameraPrefix& prefix) const = 0;
+
+  // Path-dependent counts for the MIS weights of every strategy (ConnectionCountModel,
+  // connection.h), or none: the estimator's constant StrategyCounts. prepare() may update the
+  // model's state; connections() and the splats only read it.
+  virtual const ConnectionCountModel* count_model() const { return nullptr; }
 };
 
 // Whether `scene` has paths only light subpaths can make: point light → mirror paths (no

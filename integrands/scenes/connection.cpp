@@ -107,16 +107,87 @@ JoinDensities connection_densities(std::span<const PathVertex> light,
   return join;
 }
 
+// The path of strategy (s, t) in light order, z_0 .. z_{k-1} (z_j = x_j for j < s, then the
+// camera prefix reversed), with the area density of sampling each vertex walking from the
+// emitter: pdf_fwd on the light side, the reverse densities (the join's where the connection
+// changed them) on the camera side.
+class LightOrderPath {
+ public:
+  LightOrderPath(std::span<const PathVertex> light, std::span<const PathVertex> camera,
+                 const JoinDensities& join)
+      : light_(light), camera_(camera), join_(join) {}
+
+  std::size_t size() const { return light_.size() + camera_.size(); }
+  const PathVertex& at(std::size_t j) const {
+    return j < light_.size() ? light_[j] : camera_[size() - 1 - j];
+  }
+  double light_density(std::size_t j) const {
+    if (j < light_.size()) return light_[j].pdf_fwd;
+    const std::size_t i = size() - 1 - j, t = camera_.size();  // camera index
+    return i + 1 == t ? join_.camera_end : i + 2 == t ? join_.camera_before : camera_[i].pdf_rev;
+  }
+
+ private:
+  std::span<const PathVertex> light_, camera_;
+  const JoinDensities& join_;
+};
+
+// G(a, b): |cos| at both ends over the squared distance.
+double geometry_term(const PathVertex& a, const PathVertex& b) {
+  const Vec3 d = b.position - a.position;
+  const double distance_squared = dot(d, d);
+  if (distance_squared == 0.0) return 0.0;
+  const Vec3 w = d * (1.0 / std::sqrt(distance_squared));
+  return abs_cos_at(a, w) * abs_cos_at(b, w) / distance_squared;
+}
+
+// For each join i = 1 .. k-2 of the path, q*_i (ConnectionCountModel::count): the light side
+// z_0 .. z_{i-1}'s contribution towards z_i without z_i's BSDF, extended one vertex at a time,
+//     A_1 = Le(z_0 → z_1) G(z_0, z_1) / p(z_0),
+//     A_{i+1} = A_i f(z_i; z_{i-1} → z_{i+1}) G(z_i, z_{i+1}) / p(z_i),
+// computed from the path alone, so that every strategy that makes it sees the same values;
+// -1 from the first specular vertex on.
+void light_side_importances(const Scene& scene, const LightOrderPath& z,
+                            std::span<double> importance) {
+  const std::size_t k = z.size();
+  Rgb a = emitted_towards(scene, z.at(0), z.at(1).position - z.at(0).position) *
+          (geometry_term(z.at(0), z.at(1)) / remap0(z.light_density(0)));
+  bool specular = false;
+  for (std::size_t i = 1; i + 1 < k; ++i) {
+    importance[i] = specular ? -1.0 : a.max_channel();
+    const PathVertex& v = z.at(i);
+    if (v.delta || v.kind != VertexKind::kSurface) specular = true;
+    if (specular || i + 2 >= k) continue;
+    const PathVertex& before = z.at(i - 1);
+    const PathVertex& after = z.at(i + 1);
+    const Rgb f =
+        bsdf_value(scene.material(v.triangle), v.normal, normalize(before.position - v.position),
+                   normalize(after.position - v.position))
+            .f;
+    a = a * f * (geometry_term(v, after) / remap0(z.light_density(i)));
+  }
+}
+
 // The balance heuristic n_own p_own / Σ n p over the strategies that make the same path, as
 // 1 / (1 + Σ_others (n / n_own) p / p_own): moving the join one vertex along the path multiplies
 // p by that vertex's reverse over its forward density (Veach's thesis, ch. 10).
-double balance_weight(std::span<const PathVertex> light, std::span<const PathVertex> camera,
-                      const JoinDensities& join, const StrategyCounts& counts) {
+double balance_weight(const Scene& scene, std::span<const PathVertex> light,
+                      std::span<const PathVertex> camera, const JoinDensities& join,
+                      const StrategyCounts& counts) {
   const std::size_t s = light.size(), t = camera.size();
   const std::size_t k = s + t;  // strategy (i, k - i) makes the same path
+  constexpr std::size_t kMaxVertices = 64;
+  double importance[kMaxVertices];
+  const LightOrderPath z(light, camera, join);
+  const bool path_counts = counts.model != nullptr && k >= 3 && k <= kMaxVertices;
+  if (path_counts) light_side_importances(scene, z, std::span<double>(importance, k));
   auto count = [&](std::size_t light_vertices) {
-    return counts.count(static_cast<std::uint32_t>(light_vertices),
-                        static_cast<std::uint32_t>(k - light_vertices));
+    const double constant = counts.count(static_cast<std::uint32_t>(light_vertices),
+                                         static_cast<std::uint32_t>(k - light_vertices));
+    if (!path_counts || light_vertices == 0 || k - light_vertices < 2 || constant <= 0.0) {
+      return constant;
+    }
+    return counts.model->count(importance[light_vertices], z.at(light_vertices).position, constant);
   };
   // Each end is sampled from the other side here, so it is never a delta step of this path.
   auto camera_delta = [&](std::size_t i) { return i + 1 < t && camera[i].delta; };
@@ -150,7 +221,7 @@ double balance_weight(std::span<const PathVertex> light, std::span<const PathVer
 double mis_weight(const Scene& scene, std::span<const PathVertex> light,
                   std::span<const PathVertex> camera, const StrategyCounts& counts) {
   if (light.empty()) {
-    return balance_weight(light, camera, emitter_hit_densities(scene, camera), counts);
+    return balance_weight(scene, light, camera, emitter_hit_densities(scene, camera), counts);
   }
   const Segment segment = segment_between(light.back(), camera.back());
   const EndTerms light_end = light_end_terms(scene, light.back(), segment.w);
@@ -158,8 +229,9 @@ double mis_weight(const Scene& scene, std::span<const PathVertex> light,
   const EndTerms camera_end = camera.size() >= 2
                                   ? surface_camera_end_terms(scene, camera.back(), -segment.w)
                                   : camera_lens_terms(scene, -segment.w, where);
-  return balance_weight(
-      light, camera, connection_densities(light, camera, segment, light_end, camera_end), counts);
+  return balance_weight(scene, light, camera,
+                        connection_densities(light, camera, segment, light_end, camera_end),
+                        counts);
 }
 
 Rgb connect(const Scene& scene, std::span<const PathVertex> light,
@@ -177,7 +249,8 @@ Rgb connect(const Scene& scene, std::span<const PathVertex> light,
     if (tri.emission.is_black() || dot(pt.normal, pt.to_previous) <= 0.0) return {};
     const Rgb value = pt.beta * tri.emission;
     if (!options.weighted) return value;
-    return value * balance_weight(light, camera, emitter_hit_densities(scene, camera), counts);
+    return value *
+           balance_weight(scene, light, camera, emitter_hit_densities(scene, camera), counts);
   }
   const PathVertex& qs = light[s - 1];
   const PathVertex& pt = camera[t - 1];
@@ -217,7 +290,7 @@ Rgb connect(const Scene& scene, std::span<const PathVertex> light,
     }
   }
   if (!options.weighted) return value;
-  return value * balance_weight(light, camera,
+  return value * balance_weight(scene, light, camera,
                                 connection_densities(light, camera, segment, light_end, camera_end),
                                 counts);
 }

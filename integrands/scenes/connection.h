@@ -6,7 +6,7 @@
 // y_{t-1} with a shadow ray. The weight is the balance heuristic over every strategy that could
 // have made the same path, each counted with the number of samples the estimator takes of it per
 // pixel and iteration (StrategyCounts). Those counts are constants of the estimator, never
-// properties of the current pool, so the weighted f stays independent of the pool (DESIGN.md).
+// properties of the current pool, so the weighted f stays independent of the pool (README, "Scenes").
 #pragma once
 
 #include <cstdint>
@@ -17,12 +17,32 @@
 
 namespace pcbench::scene {
 
+// The count of a connection strategy (s >= 1, t >= 2) that depends on the path: an estimator
+// that resamples its connections by importance (pcbpt's mis=resampling,
+// estimators/scene/pcbpt.cpp) takes more effective samples of an important light vertex than of
+// a dim one. The MIS weight asks it for every connection strategy that could make the path, so
+// the weights still sum to 1; it must be a function of the path and of state fixed before the
+// iteration's pool was traced (never of the current pool), so that the weighted f stays
+// independent of the pool.
+class ConnectionCountModel {
+ public:
+  virtual ~ConnectionCountModel() = default;
+  // `importance`: the light side's contribution towards the camera-side end z_i without z_i's
+  // BSDF, q* = max channel of Le · Π f · Π G / Π p_light over z_0 .. z_{i-1} and the segment to
+  // z_i (the throughput × f × G a cache point's P uses); negative when the light side has a
+  // specular vertex. `constant`: the StrategyCounts count of the strategy.
+  virtual double count(double importance, const Vec3& camera_end, double constant) const = 0;
+};
+
 // Samples per pixel and iteration of each kind of strategy; 0 where the estimator lacks it.
 struct StrategyCounts {
   double emitter_hit = 1.0;    // s = 0
   double next_event = 1.0;     // s = 1, t >= 2
   double connection = 1.0;     // s >= 2, t >= 2
   double light_tracing = 0.0;  // t = 1: light paths per iteration (all splat to the image)
+  // When set, the counts of next-event and connection strategies come from it (it must outlive
+  // every weight computed with these counts).
+  const ConnectionCountModel* model = nullptr;
 
   double count(std::uint32_t s, std::uint32_t t) const {
     if (t == 1) return light_tracing;

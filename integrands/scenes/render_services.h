@@ -68,6 +68,9 @@ class RenderServices {
 
   const Scene& scene() const { return scene_; }
   const StrategyCounts& counts() const { return counts_; }
+  // Path-dependent counts for the next-event and connection strategies (connection.h): every
+  // weight computed afterwards asks `model`, which must outlive the services' use.
+  void use_count_model(const ConnectionCountModel* model) { counts_.model = model; }
   std::uint32_t width() const { return width_; }
   std::uint32_t height() const { return height_; }
   std::uint32_t max_length() const { return max_length_; }
