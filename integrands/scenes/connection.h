@@ -5,8 +5,9 @@
 // light vertex connects to the camera and lands in some pixel); the others join x_{s-1} and
 // y_{t-1} with a shadow ray. The weight is the balance heuristic over every strategy that could
 // have made the same path, each counted with the number of samples the estimator takes of it per
-// pixel and iteration (StrategyCounts). Those counts are constants of the estimator, never
-// properties of the current pool, so the weighted f stays independent of the pool (README, "Scenes").
+// pixel and iteration (StrategyCounts). Those counts are constants of the estimator, or functions
+// of the path (ConnectionCountModel), never properties of the current pool, so the weighted f
+// stays independent of the pool (README, "Scenes").
 #pragma once
 
 #include <cstdint>
