@@ -16,12 +16,16 @@
 // (a cache point that sees nothing counts as uniform), each connection weighted 1 / (K M p(i)):
 //     <I_j> = Σ_t [ w_{0,t} f / p_{0,t} + Σ_{k<K} 1/(K M p(ξ_k)) w_{s_k,t} f / p_{s_k,t} ] + lt.
 // Unbiased wherever p > 0 where f > 0: always with u > 0. The balance weights count K samples per
-// connection strategy, 1 per emitter hit and the pool size for light tracing.
+// connection strategy, 1 per emitter hit and the pool size for light tracing (mis=balance), or,
+// per connection strategy, the draws' effective samples of the path's light vertex from the
+// previous iteration's tables (mis=resampling, resampling_counts.h; README "pcbpt's parameters"
+// gives the measurements that keep it off by default).
 //
 // Every choice is a parameter (defaults: the published design; PcbptConfig, pcbpt.h, names the
 // legacy value of each): M (1024), K (3), uniform_mix u (0.25), cache every-depth|tile-first-hit,
 // grid (16), tile (8), lookup nearest|tile, Nc (3), guide first|all, cache_importance
-// light|connection, visibility cache-point|ignored, floor (0.02), light_tracing pixels|M. The
+// light|connection|weighted, visibility cache-point|ignored, floor (0.02), light_tracing
+// pixels|M, mis balance|resampling. The
 // legacy values (cache=tile-first-hit lookup=tile cache_importance=connection floor=0
 // light_tracing=M with M=1024 K=8 uniform_mix=0.1 tile=8) are the tile design pcbench had before,
 // bit for bit: one cache point per tile at the first hit, its P mixed with uniform, deeper vertices
