@@ -225,7 +225,8 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
         throw InputError(fmt::format("{}: samples = {} is out of range [1, {}]", grid.where,
                                      plan.samples, kMaxSamples));
       }
-      if (static_cast<double>(plan.samples) * plan.replicates > kMaxTotalSamples) {
+      // samples <= 2^32 and replicates < 2^32 here: the product fits in 64 bits.
+      if (static_cast<double>(plan.total_samples()) > kMaxTotalSamples) {
         throw InputError(fmt::format(
             "{}: samples × replicates = {} × {} exceeds {:.0e} camera samples in one run",
             grid.where, plan.samples, plan.replicates, kMaxTotalSamples));

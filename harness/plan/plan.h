@@ -73,6 +73,9 @@ struct RunPlan {
   ResolvedParams integrand_params;
   std::uint64_t samples = 0;  // 0 for an equal-time run until its pilot has chosen N
   std::uint32_t replicates = 0;
+  // The run's samples over all its replicates: its work, for progress and limits (0 for an
+  // equal-time run until its pilot has chosen N).
+  std::uint64_t total_samples() const { return samples * replicates; }
   // Equal time: CPU seconds per replicate (an analytic replicate's thread CPU summed over its
   // chunks, a scene replicate's process CPU: all threads either way; harness/run/equal_time.h). A
   // short pilot measures the cost per sample (per pixel, for a scene); the run then takes a

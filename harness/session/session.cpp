@@ -225,9 +225,8 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, R
   if (interrupted) {
     return tested_record(plan, not_run_result(plan, "interrupted before the run started"));
   }
-  std::atomic<std::uint64_t>* samples_done =
-      progress.run_started(fmt::format("{} × {}", plan.estimator->name, plan.integrand->name),
-                           plan.samples * plan.replicates);
+  std::atomic<std::uint64_t>* samples_done = progress.run_started(
+      fmt::format("{} × {}", plan.estimator->name, plan.integrand->name), plan.total_samples());
   const RunnerOptions runner{.seed = options.seed,
                              .interrupted = options.interrupted,
                              .samples_done = samples_done,
@@ -323,7 +322,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   std::deque<RunPlan> chosen_plans;  // stable addresses for the records that point at them
   std::uint64_t planned_work = 0;
   for (const RunPlan& plan : plans) {
-    if (store->find(plan.id) == nullptr) planned_work += plan.samples * plan.replicates;
+    if (store->find(plan.id) == nullptr) planned_work += plan.total_samples();
   }
   std::optional<ProgressReporter> progress;
   progress.emplace(progress_mode(err, options.quiet), err, plans.size(), planned_work);
@@ -340,8 +339,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
           plan, {.seed = options.seed, .interrupted = options.interrupted}, *progress));
       to_run.back() = &chosen_plans.back();
       // The pilot's choice replaces the planned count in the time left.
-      progress->add_work(
-          chosen_plans.back().samples * plan.replicates - plan.samples * plan.replicates, 0);
+      progress->add_work(chosen_plans.back().total_samples() - plan.total_samples(), 0);
     }
   }
   // The journal's runs are restored; the others run.
@@ -416,7 +414,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
                                   .result = record.verdict->result,
                                   .reason = record.verdict->reason};
         later_plans.push_back(with_samples(*record.plan, record.plan->samples * kEscalationFactor));
-        progress->add_work(later_plans.back().samples * later_plans.back().replicates, 1);
+        progress->add_work(later_plans.back().total_samples(), 1);
         RunRecord next =
             execute_and_test(later_plans.back(), options, *store, interrupted, *progress, err);
         if (next.verdict) {
