@@ -426,6 +426,23 @@ TEST(PlanExpect, ValidExpectationsPassThrough) {
   EXPECT_FALSE(unset.at(0).expect.has_value());
 }
 
+// One rule for runs and exact checks: the row's expect wins; a test that cannot decide expects
+// inconclusive (a control too); otherwise a control expects biased, an honest run consistent.
+TEST(PlanExpect, OneDefaultRuleForEveryTest) {
+  const RunPlan honest = plan_runs({row("genz-gaussian")}, {}).at(0);
+  const RunPlan control = plan_runs({grid({"ctl-wrong-count"}, {"genz-gaussian"})}, {}).at(0);
+  ASSERT_TRUE(control.estimator->biased);
+  EXPECT_EQ(expected_result(honest, true), "consistent");
+  EXPECT_EQ(expected_result(control, true), "biased");
+  EXPECT_EQ(expected_result(honest, false), "inconclusive");
+  EXPECT_EQ(expected_result(control, false), "inconclusive");
+  GridRequest stated = grid({"ctl-wrong-count"}, {"genz-gaussian"});
+  stated.expect = "consistent";
+  const RunPlan stated_plan = plan_runs({stated}, {}).at(0);
+  EXPECT_EQ(expected_result(stated_plan, true), "consistent");
+  EXPECT_EQ(expected_result(stated_plan, false), "consistent");
+}
+
 TEST(PlanExpect, BadExpectationIsRejectedWithTheValidList) {
   GridRequest r = row("genz-gaussian", {}, "suite.json: /runs/4");
   r.expect = "consistant";

@@ -12,6 +12,12 @@ namespace pcbench {
 
 const std::vector<std::string> kExpectations = {"consistent", "biased", "inconclusive"};
 
+std::string expected_result(const RunPlan& plan, bool decidable) {
+  if (plan.expect) return *plan.expect;
+  if (!decidable) return "inconclusive";
+  return plan.estimator->biased ? "biased" : "consistent";
+}
+
 namespace {
 
 bool declares(const std::vector<ParamSpec>& specs, const std::string& key) {

@@ -116,4 +116,10 @@ std::uint64_t run_id_hash(const std::string& estimator, const std::string& integ
 
 extern const std::vector<std::string> kExpectations;  // consistent, biased, inconclusive
 
+// The one rule for what a test of `plan` is expected to find, sampled runs and `--exact` checks
+// alike: the row's `expect` if given; else "inconclusive" when the test cannot decide
+// (`decidable` false: no reference, a t-test on an infinite-variance integrand, no resampling
+// step to enumerate); else "biased" for a negative control; else "consistent".
+std::string expected_result(const RunPlan& plan, bool decidable);
+
 }  // namespace pcbench

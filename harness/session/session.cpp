@@ -60,17 +60,10 @@ void update_latest_link(const fs::path& folder) {
   }
 }
 
-bool declared_infinite_variance(const RunPlan& plan) {
-  return plan.integrand->has_tag("infinite-variance");
-}
-
-std::string default_expectation(const RunPlan& plan, const Reference& reference) {
-  if (plan.expect) return *plan.expect;
-  // Without a reference nothing can be tested against it (pairwise comparisons still can).
-  if (reference.kind == ReferenceKind::kNone) return "inconclusive";
-  if (plan.estimator->biased) return "biased";
-  if (declared_infinite_variance(plan)) return "inconclusive";
-  return "consistent";
+// Whether a t-test of the run against its reference can decide: not without a reference
+// (pairwise comparisons still can), nor where the integrand declares an infinite variance.
+bool t_test_decides(const RunPlan& plan, const Reference& reference) {
+  return reference.kind != ReferenceKind::kNone && !plan.integrand->has_tag("infinite-variance");
 }
 
 // Student's t assumes a finite variance and replicate means near normal; where the samples say
@@ -78,7 +71,7 @@ std::string default_expectation(const RunPlan& plan, const Reference& reference)
 // confidence the test does not have, so the run is inconclusive with the reason.
 Verdict verdict_for(const RunPlan& plan, const RunResult& result,
                     const SampleDiagnostics& diagnostics) {
-  const std::string expect = default_expectation(plan, result.reference);
+  const std::string expect = expected_result(plan, t_test_decides(plan, result.reference));
   if (const std::optional<std::string> reason = untestable_reason(diagnostics)) {
     return untested_verdict(*reason, expect);
   }
@@ -124,10 +117,7 @@ int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& o
   bool differs = false;
   for (const RunPlan& plan : plans) {
     ExactRecord record{.plan = &plan, .check = exact_check(plan, options.seed)};
-    record.expect = plan.expect               ? *plan.expect
-                    : plan.estimator->biased  ? "biased"
-                    : record.check.applicable ? "consistent"
-                                              : "inconclusive";
+    record.expect = expected_result(plan, record.check.applicable);
     if (record.check.result != record.expect) differs = true;
     if (!options.quiet) {
       out << fmt::format("{:<24} {:<18} {:<12} (expected {}): {}\n", plan.estimator->name,
