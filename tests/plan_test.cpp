@@ -331,6 +331,28 @@ TEST(PlanBudget, DefaultsAreTheInterfaceDefaults) {
   EXPECT_EQ(plans[0].replicates, 32u);
 }
 
+// The scene default (16 spp) applies only when nothing sets samples: an explicit 100000 (the
+// analytic default) on a scene is 100000 spp, from the command line or a suite's defaults.
+TEST(PlanBudget, ASceneTakesItsDefaultOnlyWhenSamplesAreUnset) {
+  const GridRequest scene = grid({"pt"}, {"furnace"}, {{"resolution", {"8"}}});
+  EXPECT_EQ(plan_runs({scene}, {}).at(0).samples, kDefaultScenePixelSamples);
+  BudgetDefaults forced;
+  forced.forced_samples = kDefaultSamples;  // pcbench run -e pt -i furnace -n 100000
+  EXPECT_EQ(plan_runs({scene}, forced).at(0).samples, 100000u);
+  BudgetDefaults suite_default;
+  suite_default.samples = kDefaultSamples;  // "defaults": {"samples": 100000}
+  EXPECT_EQ(plan_runs({scene}, suite_default).at(0).samples, 100000u);
+  GridRequest row_budget = scene;
+  row_budget.samples = kDefaultSamples;
+  EXPECT_EQ(plan_runs({row_budget}, {}).at(0).samples, 100000u);
+  // Both kinds in one grid: each takes its own default.
+  const std::vector<RunPlan> mixed =
+      plan_runs({grid({"plain"}, {"genz-gaussian", "furnace"}, {{"resolution", {"8"}}})}, {});
+  ASSERT_EQ(mixed.size(), 2u);
+  EXPECT_EQ(mixed[0].samples, kDefaultSamples);
+  EXPECT_EQ(mixed[1].samples, kDefaultScenePixelSamples);
+}
+
 TEST(PlanBudget, ZeroSamplesAreRejected) {
   GridRequest zero = row("genz-gaussian");
   zero.samples = 0;

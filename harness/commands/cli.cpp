@@ -269,7 +269,7 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     SuiteRequest suite = load_suite(args.suite_path);
     grids = std::move(suite.grids);
     session.suite_name = suite.name;
-    if (suite.samples) budget.samples = *suite.samples;
+    budget.samples = suite.samples;
     if (suite.replicates) budget.replicates = *suite.replicates;
     budget.seconds = suite.seconds;
     if (suite.seed && run_app.count("--seed") == 0) session.seed = *suite.seed;
@@ -371,8 +371,8 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_option("--param,-p", args.params,
                   "key=value, repeatable; numeric and choice values may be comma lists (a grid)");
   app->add_option("--samples,-n", args.samples,
-                  "camera samples per replicate (default 100000; for a scene, samples per pixel, "
-                  "default 16)")
+                  "camera samples per replicate (default 100000 for an analytic integrand, 16 spp "
+                  "for a scene, whose samples are per pixel)")
       ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
   app->add_option("--seconds", args.seconds,
                   "equal time: CPU seconds per replicate; a pilot picks the sample count")

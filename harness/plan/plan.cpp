@@ -130,6 +130,10 @@ std::vector<Row> expand(const GridRequest& grid, std::size_t earlier) {
 
 }  // namespace
 
+std::uint64_t default_samples(const IntegrandEntry& integrand) {
+  return is_scene(integrand) ? kDefaultScenePixelSamples : kDefaultSamples;
+}
+
 std::uint64_t run_id_hash(const std::string& estimator, const std::string& integrand,
                           const std::map<std::string, std::string>& effective_params,
                           std::uint64_t samples, std::uint32_t replicates) {
@@ -207,10 +211,9 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
       plan.integrand_params =
           resolve_params(row.integrand->params, row.params,
                          fmt::format("{}: integrand '{}'", grid.where, row.integrand->name));
-      // A scene's samples are per pixel; its default budget is kDefaultScenePixelSamples.
-      const std::uint64_t default_samples =
-          scene && budget.samples == kDefaultSamples ? kDefaultScenePixelSamples : budget.samples;
-      plan.samples = budget.forced_samples.value_or(grid.samples.value_or(default_samples));
+      // The command line, else the row, else the suite, else the integrand kind's default.
+      plan.samples = budget.forced_samples.value_or(
+          grid.samples.value_or(budget.samples.value_or(default_samples(*row.integrand))));
       plan.replicates =
           budget.forced_replicates.value_or(grid.replicates.value_or(budget.replicates));
       // Samples given on the command line win over any seconds; seconds on the command line

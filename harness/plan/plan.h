@@ -17,8 +17,9 @@
 
 namespace pcbench {
 
-inline constexpr std::uint64_t kDefaultSamples = 100000;
-inline constexpr std::uint64_t kDefaultScenePixelSamples = 16;  // samples per pixel
+// The budget when nothing sets one, per integrand kind (default_samples).
+inline constexpr std::uint64_t kDefaultSamples = 100000;        // analytic: samples
+inline constexpr std::uint64_t kDefaultScenePixelSamples = 16;  // scene: samples per pixel
 inline constexpr std::uint32_t kDefaultReplicates = 32;
 inline constexpr std::uint64_t kDefaultSeed = 1;
 // Counter layout limits of the random streams (base/rng.h).
@@ -45,7 +46,9 @@ struct GridRequest {
 // Budget settings that apply unless a row sets its own; `forced` values (from the command line)
 // override rows too.
 struct BudgetDefaults {
-  std::uint64_t samples = kDefaultSamples;
+  // Unset: the default of the integrand's kind (default_samples), so that an explicit 100000 is
+  // 100000 on a scene too.
+  std::optional<std::uint64_t> samples = {};
   std::uint32_t replicates = kDefaultReplicates;
   std::optional<std::uint64_t> forced_samples = {};
   std::optional<std::uint32_t> forced_replicates = {};
@@ -93,6 +96,10 @@ struct RunPlan {
   std::shared_ptr<const scene::SceneEstimator> render;
   std::shared_ptr<const Integrand> made_integrand;
 };
+
+// The samples of a run whose row, suite and command line set none: kDefaultSamples on an
+// analytic integrand, kDefaultScenePixelSamples per pixel on a scene.
+std::uint64_t default_samples(const IntegrandEntry& integrand);
 
 // Expands every grid, resolves and builds each row, and collapses rows with the same id (the
 // first occurrence stays). Throws InputError on the first bad input.
