@@ -435,10 +435,9 @@ int reference_command_line(RunArguments args, const std::vector<std::string>& ar
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, thread_count(args));
   if (this_rank() != 0) return serve_replicates(plans, interrupted);
   return run_reference_command(plans,
-                               {.seed = args.seed,
+                               {.runner = {.seed = args.seed, .interrupted = interrupted},
                                 .cache = args.reference_cache,
                                 .argv = argv,
-                                .interrupted = interrupted,
                                 .farm = replicate_farm(plans)},
                                out, err);
 }

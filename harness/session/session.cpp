@@ -206,8 +206,9 @@ RunRecord finished_record(const RunPlan& plan, RunResult result, const SessionOp
 }
 
 // Runs one plan, or restores it from the journal, and tests it alone.
-RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, RunStore& store,
-                           bool& interrupted, ProgressReporter& progress, std::ostream& err) {
+RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options,
+                           const RunnerOptions& runner, RunStore& store, bool& interrupted,
+                           ProgressReporter& progress, std::ostream& err) {
   if (std::optional<RunRecord> restored = restored_record(plan, store, progress)) {
     return std::move(*restored);
   }
@@ -215,14 +216,12 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, R
   if (interrupted) {
     return tested_record(plan, not_run_result(plan, "interrupted before the run started"));
   }
-  std::atomic<std::uint64_t>* samples_done = progress.run_started(
+  // The session's options with this run's progress counter.
+  RunnerOptions this_run = runner;
+  this_run.samples_done = progress.run_started(
       fmt::format("{} × {}", plan.estimator->name, plan.integrand->name), plan.total_samples());
-  const RunnerOptions runner{.seed = options.seed,
-                             .interrupted = options.interrupted,
-                             .samples_done = samples_done,
-                             .strategy_images = options.strategy_images};
   RunResult result =
-      options.farm != nullptr ? options.farm->run(plan, runner) : execute_run(plan, runner);
+      options.farm != nullptr ? options.farm->run(plan, this_run) : execute_run(plan, this_run);
   if (result.status == RunStatus::kNotRun) interrupted = true;
   RunRecord record = finished_record(plan, std::move(result), options, store, progress, err);
   progress.run_finished(outcome_of(record));
@@ -290,6 +289,12 @@ std::vector<std::pair<Comparison, Verdict>> pairwise_comparisons(
 
 }  // namespace
 
+RunnerOptions runner_options(const SessionOptions& options) {
+  return {.seed = options.seed,
+          .interrupted = options.interrupted,
+          .strategy_images = options.strategy_images};
+}
+
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err) {
   // The folder is chosen first: finished runs are saved there as they finish
@@ -306,6 +311,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     }
   }
 
+  const RunnerOptions runner = runner_options(options);
   std::vector<RunRecord> records;
   records.reserve(plans.size());
   bool interrupted = false;
@@ -325,8 +331,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
       chosen_plans.push_back(restored_choice(plan, *saved));
       to_run.back() = &chosen_plans.back();
     } else if (!(options.interrupted != nullptr && options.interrupted->load())) {
-      chosen_plans.push_back(choose_samples(
-          plan, {.seed = options.seed, .interrupted = options.interrupted}, *progress));
+      chosen_plans.push_back(choose_samples(plan, runner, *progress));
       to_run.back() = &chosen_plans.back();
       // The pilot's choice replaces the planned count in the time left.
       progress->add_work(chosen_plans.back().total_samples() - plan.total_samples(), 0);
@@ -339,12 +344,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   }
   if (options.interleave) {
     // Interleaved, then saved.
-    std::vector<RunResult> results =
-        execute_interleaved(pending,
-                            {.seed = options.seed,
-                             .interrupted = options.interrupted,
-                             .strategy_images = options.strategy_images},
-                            *progress);
+    std::vector<RunResult> results = execute_interleaved(pending, runner, *progress);
     std::size_t next = 0;
     for (const RunPlan* plan : to_run) {
       if (std::optional<RunRecord> restored = restored_record(*plan, *store, *progress)) {
@@ -357,11 +357,11 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     }
   } else {
     if (options.farm != nullptr) {
-      options.farm->announce(pending,
-                             {.seed = options.seed, .strategy_images = options.strategy_images});
+      options.farm->announce(pending, runner);
     }
     for (const RunPlan* plan : to_run) {
-      records.push_back(execute_and_test(*plan, options, *store, interrupted, *progress, err));
+      records.push_back(
+          execute_and_test(*plan, options, runner, *store, interrupted, *progress, err));
     }
   }
 
@@ -405,8 +405,8 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
                                   .reason = record.verdict->reason};
         later_plans.push_back(with_samples(*record.plan, record.plan->samples * kEscalationFactor));
         progress->add_work(later_plans.back().total_samples(), 1);
-        RunRecord next =
-            execute_and_test(later_plans.back(), options, *store, interrupted, *progress, err);
+        RunRecord next = execute_and_test(later_plans.back(), options, runner, *store, interrupted,
+                                          *progress, err);
         if (next.verdict) {
           std::vector<Verdict*> alone = {&*next.verdict};
           decide_family(alone, stage_alpha);

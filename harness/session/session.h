@@ -72,6 +72,11 @@ struct SessionOptions {
   bool journal_only = false;
 };
 
+// The runner's options of a session, built once (seed, interrupt flag, strategy images) and
+// passed down; a run's variations (its progress counter, a pilot, one replicate on a rank of an
+// MPI job) are copies of it with that field set.
+RunnerOptions runner_options(const SessionOptions& options);
+
 // Writes `report` atomically as report.json in the run folder (options.out_dir, or a new
 // results/runs/<date-time>/ linked as results/latest). Returns its path, or nothing after
 // writing the reason to `err`.
