@@ -5,21 +5,16 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <array>
-#include <chrono>
-#include <ctime>
 #include <deque>
 #include <filesystem>
 #include <ostream>
 #include <stdexcept>
 
-#include <unistd.h>
-
-#include "base/atomic_file.h"
 #include "harness/run/equal_time.h"
 #include "harness/run/interleaved_runs.h"
 #include "harness/run/progress.h"
 #include "harness/run/replay.h"
+#include "harness/session/publish.h"
 #include "harness/session/report.h"
 #include "harness/session/summary.h"
 #include "harness/verify/efficiency_ratio.h"
@@ -31,34 +26,6 @@ namespace pcbench {
 namespace {
 
 namespace fs = std::filesystem;
-
-// results/runs/<UTC date-time>[-k]: a new folder name, never an existing one.
-fs::path default_run_folder() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  std::array<char, 32> stamp{};
-  std::strftime(stamp.data(), stamp.size(), "%Y%m%d-%H%M%S", &tm);
-  const fs::path runs = fs::path("results") / "runs";
-  fs::path folder = runs / stamp.data();
-  for (int k = 2; fs::exists(folder); ++k) folder = runs / fmt::format("{}-{}", stamp.data(), k);
-  return folder;
-}
-
-// Points results/latest at `folder`, replacing the old link atomically.
-void update_latest_link(const fs::path& folder) {
-  const fs::path link = fs::path("results") / "latest";
-  const fs::path temporary = fs::path("results") / fmt::format(".latest.{}", ::getpid());
-  std::error_code ignored;
-  fs::remove(temporary, ignored);
-  fs::create_directory_symlink(fs::relative(folder, "results"), temporary);
-  std::error_code error;
-  fs::rename(temporary, link, error);
-  if (error) {
-    fs::remove(temporary, ignored);
-    throw std::runtime_error(link.string() + ": " + error.message());
-  }
-}
 
 // Whether a t-test of the run against its reference can decide: not without a reference
 // (pairwise comparisons still can), nor where the integrand declares an infinite variance.
@@ -80,37 +47,6 @@ Verdict verdict_for(const RunPlan& plan, const RunResult& result,
 
 }  // namespace
 
-std::optional<fs::path> publish_report(const std::string& report, const SessionOptions& options,
-                                       std::ostream& err) {
-  return publish_report(report, options, report_folder(options), err);
-}
-
-fs::path report_folder(const SessionOptions& options) {
-  return options.out_dir ? fs::path(*options.out_dir) : default_run_folder();
-}
-
-std::optional<fs::path> publish_report(const std::string& report, const SessionOptions& options,
-                                       const fs::path& folder, std::ostream& err) {
-  const bool default_folder = !options.out_dir.has_value();
-  const fs::path report_path = folder / "report.json";
-  try {
-    write_file_atomically(report_path, report);
-  } catch (const std::exception& e) {
-    err << "pcbench: error: cannot write the report " << report_path.string() << ": " << e.what()
-        << "\n";
-    return std::nullopt;
-  }
-  if (default_folder) {
-    try {
-      update_latest_link(folder);
-    } catch (const std::exception& e) {
-      // The report is written; only the convenience link failed.
-      err << "pcbench: warning: results/latest not updated: " << e.what() << "\n";
-    }
-  }
-  return report_path;
-}
-
 int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& options,
                       std::ostream& out, std::ostream& err) {
   ReportSections sections;
@@ -126,12 +62,7 @@ int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& o
     }
     sections.exact_checks.push_back(std::move(record));
   }
-  const std::optional<fs::path> report_path =
-      publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
-                                 options.suite_name, {}, sections),
-                     options, err);
-  if (!report_path) return kExitRunFailed;
-  out << "report: " << report_path->string() << "\n";
+  if (!publish_report(options, sections, out, err)) return kExitRunFailed;
   return differs ? kExitVerdictDiffers : kExitOk;
 }
 
@@ -432,21 +363,6 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   }
   sections.comparisons = comparisons_json(finished);
   sections.efficiency_ratios = efficiency_ratios_json(records, options.interleave);
-  std::optional<fs::path> report_path;
-  try {
-    const ReferenceCache cache(options.reference_cache);
-    write_scene_images(records, folder, &cache, options.replicate_images, err);
-    Context context = gather_context(options.argv, options.seed, options.threads);
-    if (options.resume) {
-      context.restored_runs = store->restored();
-    }
-    if (options.farm != nullptr) context.ranks = rank_count();
-    report_path = publish_report(report_json(context, options.suite_name, records, sections),
-                                 options, folder, err);
-  } catch (const std::exception& e) {
-    err << "pcbench: error: cannot write the images of " << folder.string() << ": " << e.what()
-        << "\n";
-  }
   if (!options.quiet) {
     print_summary(records, out);
     for (const Comparison& c : finished) {
@@ -456,8 +372,21 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     }
     if (options.interleave) print_efficiency_ratios(sections.efficiency_ratios, out);
   }
-  if (!report_path) return kExitRunFailed;
-  out << "report: " << report_path->string() << "\n";
+  bool published = false;
+  try {
+    const ReferenceCache cache(options.reference_cache);
+    write_scene_images(records, folder, &cache, options.replicate_images, err);
+    Context context = session_context(options);
+    if (options.resume) {
+      context.restored_runs = store->restored();
+    }
+    if (options.farm != nullptr) context.ranks = rank_count();
+    published = publish_report(options, folder, context, records, sections, out, err);
+  } catch (const std::exception& e) {
+    err << "pcbench: error: cannot write the images of " << folder.string() << ": " << e.what()
+        << "\n";
+  }
+  if (!published) return kExitRunFailed;
   if (interrupted) {
     err << fmt::format(
         "pcbench: interrupted; the finished runs are saved in {}: the same command with --out {} "

@@ -77,19 +77,6 @@ struct SessionOptions {
 // MPI job) are copies of it with that field set.
 RunnerOptions runner_options(const SessionOptions& options);
 
-// Writes `report` atomically as report.json in the run folder (options.out_dir, or a new
-// results/runs/<date-time>/ linked as results/latest). Returns its path, or nothing after
-// writing the reason to `err`.
-std::optional<std::filesystem::path> publish_report(const std::string& report,
-                                                    const SessionOptions& options,
-                                                    std::ostream& err);
-// The folder a session's report (and images) go to, and publishing into a folder chosen before.
-std::filesystem::path report_folder(const SessionOptions& options);
-std::optional<std::filesystem::path> publish_report(const std::string& report,
-                                                    const SessionOptions& options,
-                                                    const std::filesystem::path& folder,
-                                                    std::ostream& err);
-
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err);
 
