@@ -416,6 +416,29 @@ TEST(PlanNames, UnknownIntegrandListsTheValidOnes) {
   EXPECT_TRUE(contains(message, ", expr")) << message;
 }
 
+// Names are looked up once, into registry rows that the plans then carry.
+TEST(PlanNames, ResolvedOnceIntoTheRegistryRowsThePlansCarry) {
+  const ResolvedGrid resolved = resolve_names(grid({"plain", "pcbpt"}, {"genz-gaussian"}));
+  ASSERT_EQ(resolved.estimators.size(), 2u);
+  ASSERT_EQ(resolved.integrands.size(), 1u);
+  EXPECT_EQ(resolved.estimators[0], &find_estimator("plain"));
+  EXPECT_EQ(resolved.estimators[1], &find_estimator("pcbpt"));
+  EXPECT_EQ(resolved.integrands[0], &find_integrand("genz-gaussian"));
+  const std::vector<RunPlan> plans = plan_runs({resolved}, {});
+  ASSERT_EQ(plans.size(), 2u);
+  EXPECT_EQ(plans[0].estimator, resolved.estimators[0]);
+  EXPECT_EQ(plans[1].estimator, resolved.estimators[1]);
+  EXPECT_EQ(plans[0].integrand, resolved.integrands[0]);
+  // The same plans as from the names.
+  EXPECT_EQ(plans[1].id, plan_runs({grid({"plain", "pcbpt"}, {"genz-gaussian"})}, {}).at(1).id);
+}
+
+TEST(PlanNames, AnUnknownNameSaysWhereItWasGiven) {
+  const std::string message =
+      plan_error({grid({"plian"}, {"genz-gaussian"}, {}, "s.json: /runs/3")});
+  EXPECT_TRUE(contains(message, "s.json: /runs/3: unknown estimator 'plian'")) << message;
+}
+
 TEST(PlanValues, BadParameterValueNamesWhereAndParameter) {
   const std::string message =
       plan_error({row("genz-gaussian", {{"sharpness", {"1", "abc"}}}, "suite.json: /grid/2")});

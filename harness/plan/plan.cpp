@@ -78,15 +78,16 @@ struct Row {
 // Expands one grid into rows; a key the row's estimator and integrand do not read is dropped for
 // that row, and a key no row reads is an error (a typo would otherwise vanish silently). Throws
 // when the rows, with `earlier` rows of the grids before, would be more than kMaxRuns.
-std::vector<Row> expand(const GridRequest& grid, std::size_t earlier) {
-  if (grid.estimators.empty()) throw InputError(grid.where + ": no estimator given");
-  if (grid.integrands.empty()) throw InputError(grid.where + ": no integrand given");
+std::vector<Row> expand(const ResolvedGrid& resolved, std::size_t earlier) {
+  const GridRequest& grid = resolved.request;
+  if (resolved.estimators.empty()) throw InputError(grid.where + ": no estimator given");
+  if (resolved.integrands.empty()) throw InputError(grid.where + ": no integrand given");
   std::vector<Row> rows;
   std::set<std::string> keys_read;
-  for (const std::string& estimator_name : grid.estimators) {
-    const EstimatorEntry& estimator = find_estimator(estimator_name);
-    for (const std::string& integrand_name : grid.integrands) {
-      const IntegrandEntry& integrand = find_integrand(integrand_name);
+  for (const EstimatorEntry* estimator_entry : resolved.estimators) {
+    const EstimatorEntry& estimator = *estimator_entry;
+    for (const IntegrandEntry* integrand_entry : resolved.integrands) {
+      const IntegrandEntry& integrand = *integrand_entry;
       const std::vector<ParamSpec>& specs = estimator_specs(estimator, integrand, grid.where);
       std::vector<ParamText> partial = {{}};
       for (const auto& [key, values] : grid.params) {
@@ -114,13 +115,13 @@ std::vector<Row> expand(const GridRequest& grid, std::size_t earlier) {
   for (const auto& [key, values] : grid.params) {
     if (keys_read.count(key)) continue;
     std::string readers;
-    for (const std::string& name : grid.estimators) {
-      readers += fmt::format("; estimator '{}' reads: {}", name,
-                             names_or_none(find_estimator(name).params));
+    for (const EstimatorEntry* estimator : resolved.estimators) {
+      readers += fmt::format("; estimator '{}' reads: {}", estimator->name,
+                             names_or_none(estimator->params));
     }
-    for (const std::string& name : grid.integrands) {
-      readers += fmt::format("; integrand '{}' reads: {}", name,
-                             names_or_none(find_integrand(name).params));
+    for (const IntegrandEntry* integrand : resolved.integrands) {
+      readers += fmt::format("; integrand '{}' reads: {}", integrand->name,
+                             names_or_none(integrand->params));
     }
     throw InputError(fmt::format("{}: parameter '{}' is read by no estimator or integrand{}",
                                  grid.where, key, readers));
@@ -129,6 +130,29 @@ std::vector<Row> expand(const GridRequest& grid, std::size_t earlier) {
 }
 
 }  // namespace
+
+ResolvedGrid resolve_names(GridRequest grid) {
+  ResolvedGrid resolved;
+  try {
+    for (const std::string& name : grid.estimators) {
+      resolved.estimators.push_back(&find_estimator(name));
+    }
+    for (const std::string& name : grid.integrands) {
+      resolved.integrands.push_back(&find_integrand(name));
+    }
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", grid.where, e.what()));
+  }
+  resolved.request = std::move(grid);
+  return resolved;
+}
+
+std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
+                               const BudgetDefaults& budget) {
+  std::vector<ResolvedGrid> resolved;
+  for (const GridRequest& grid : grids) resolved.push_back(resolve_names(grid));
+  return plan_runs(resolved, budget);
+}
 
 std::uint64_t default_samples(const IntegrandEntry& integrand) {
   return is_scene(integrand) ? kDefaultScenePixelSamples : kDefaultSamples;
@@ -182,7 +206,7 @@ RunPlan with_chosen_samples(const RunPlan& plan, std::uint64_t samples) {
   return chosen;
 }
 
-std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
+std::vector<RunPlan> plan_runs(const std::vector<ResolvedGrid>& grids,
                                const BudgetDefaults& budget) {
   std::vector<RunPlan> plans;
   struct SeenRow {
@@ -191,13 +215,14 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
   };
   std::map<std::uint64_t, SeenRow> seen;
   std::size_t rows_so_far = 0;  // before identical rows collapse: what expanding costs
-  for (const GridRequest& grid : grids) {
+  for (const ResolvedGrid& resolved : grids) {
+    const GridRequest& grid = resolved.request;
     if (grid.expect && std::find(kExpectations.begin(), kExpectations.end(), *grid.expect) ==
                            kExpectations.end()) {
       throw InputError(fmt::format("{}: expect '{}' is not valid; valid: {}", grid.where,
                                    *grid.expect, join_names(kExpectations)));
     }
-    std::vector<Row> rows = expand(grid, rows_so_far);
+    std::vector<Row> rows = expand(resolved, rows_so_far);
     rows_so_far += rows.size();
     for (Row& row : rows) {
       RunPlan plan;

@@ -43,6 +43,19 @@ struct GridRequest {
   std::string where = {};  // "suites/x.json: /grid/0" or "command line"
 };
 
+// A grid with its names looked up in the registries: the one place a name is resolved. What
+// comes after (splitting --param values, expanding, planning, running) uses these entries.
+struct ResolvedGrid {
+  std::vector<const EstimatorEntry*> estimators = {};
+  std::vector<const IntegrandEntry*> integrands = {};
+  // Params, budget, expect and where; its name lists are the ones resolved above.
+  GridRequest request = {};
+};
+
+// Looks each name of `grid` up once; InputError naming grid.where, the unknown name and the
+// valid ones.
+ResolvedGrid resolve_names(GridRequest grid);
+
 // Budget settings that apply unless a row sets its own; `forced` values (from the command line)
 // override rows too.
 struct BudgetDefaults {
@@ -103,6 +116,10 @@ std::uint64_t default_samples(const IntegrandEntry& integrand);
 
 // Expands every grid, resolves and builds each row, and collapses rows with the same id (the
 // first occurrence stays). Throws InputError on the first bad input.
+std::vector<RunPlan> plan_runs(const std::vector<ResolvedGrid>& grids,
+                               const BudgetDefaults& budget);
+// The same for grids not resolved yet (suite files, calibrations, tests): resolve_names, then
+// plan_runs.
 std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids, const BudgetDefaults& budget);
 
 // Sets plan.id_hash and plan.id from its estimator, integrand, effective params and budget.
