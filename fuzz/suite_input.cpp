@@ -14,7 +14,7 @@ Outcome check_suite_text(std::string_view text) {
     // The suite's defaults as `pcbench run SUITE` applies them (harness/commands/cli.cpp), with no
     // command-line overrides.
     BudgetDefaults budget;
-    if (suite.samples) budget.samples = *suite.samples;
+    budget.samples = suite.samples;
     if (suite.replicates) budget.replicates = *suite.replicates;
     budget.seconds = suite.seconds;
     plan_runs(suite.grids, budget);

@@ -331,6 +331,28 @@ TEST(PlanBudget, DefaultsAreTheInterfaceDefaults) {
   EXPECT_EQ(plans[0].replicates, 32u);
 }
 
+// The scene default (16 spp) applies only when nothing sets samples: an explicit 100000 (the
+// analytic default) on a scene is 100000 spp, from the command line or a suite's defaults.
+TEST(PlanBudget, ASceneTakesItsDefaultOnlyWhenSamplesAreUnset) {
+  const GridRequest scene = grid({"pt"}, {"furnace"}, {{"resolution", {"8"}}});
+  EXPECT_EQ(plan_runs({scene}, {}).at(0).samples, kDefaultScenePixelSamples);
+  BudgetDefaults forced;
+  forced.forced_samples = kDefaultSamples;  // pcbench run -e pt -i furnace -n 100000
+  EXPECT_EQ(plan_runs({scene}, forced).at(0).samples, 100000u);
+  BudgetDefaults suite_default;
+  suite_default.samples = kDefaultSamples;  // "defaults": {"samples": 100000}
+  EXPECT_EQ(plan_runs({scene}, suite_default).at(0).samples, 100000u);
+  GridRequest row_budget = scene;
+  row_budget.samples = kDefaultSamples;
+  EXPECT_EQ(plan_runs({row_budget}, {}).at(0).samples, 100000u);
+  // Both kinds in one grid: each takes its own default.
+  const std::vector<RunPlan> mixed =
+      plan_runs({grid({"plain"}, {"genz-gaussian", "furnace"}, {{"resolution", {"8"}}})}, {});
+  ASSERT_EQ(mixed.size(), 2u);
+  EXPECT_EQ(mixed[0].samples, kDefaultSamples);
+  EXPECT_EQ(mixed[1].samples, kDefaultScenePixelSamples);
+}
+
 TEST(PlanBudget, ZeroSamplesAreRejected) {
   GridRequest zero = row("genz-gaussian");
   zero.samples = 0;
@@ -394,6 +416,29 @@ TEST(PlanNames, UnknownIntegrandListsTheValidOnes) {
   EXPECT_TRUE(contains(message, ", expr")) << message;
 }
 
+// Names are looked up once, into registry rows that the plans then carry.
+TEST(PlanNames, ResolvedOnceIntoTheRegistryRowsThePlansCarry) {
+  const ResolvedGrid resolved = resolve_names(grid({"plain", "pcbpt"}, {"genz-gaussian"}));
+  ASSERT_EQ(resolved.estimators.size(), 2u);
+  ASSERT_EQ(resolved.integrands.size(), 1u);
+  EXPECT_EQ(resolved.estimators[0], &find_estimator("plain"));
+  EXPECT_EQ(resolved.estimators[1], &find_estimator("pcbpt"));
+  EXPECT_EQ(resolved.integrands[0], &find_integrand("genz-gaussian"));
+  const std::vector<RunPlan> plans = plan_runs({resolved}, {});
+  ASSERT_EQ(plans.size(), 2u);
+  EXPECT_EQ(plans[0].estimator, resolved.estimators[0]);
+  EXPECT_EQ(plans[1].estimator, resolved.estimators[1]);
+  EXPECT_EQ(plans[0].integrand, resolved.integrands[0]);
+  // The same plans as from the names.
+  EXPECT_EQ(plans[1].id, plan_runs({grid({"plain", "pcbpt"}, {"genz-gaussian"})}, {}).at(1).id);
+}
+
+TEST(PlanNames, AnUnknownNameSaysWhereItWasGiven) {
+  const std::string message =
+      plan_error({grid({"plian"}, {"genz-gaussian"}, {}, "s.json: /runs/3")});
+  EXPECT_TRUE(contains(message, "s.json: /runs/3: unknown estimator 'plian'")) << message;
+}
+
 TEST(PlanValues, BadParameterValueNamesWhereAndParameter) {
   const std::string message =
       plan_error({row("genz-gaussian", {{"sharpness", {"1", "abc"}}}, "suite.json: /grid/2")});
@@ -424,6 +469,23 @@ TEST(PlanExpect, ValidExpectationsPassThrough) {
   }
   const std::vector<RunPlan> unset = plan_runs({row("genz-gaussian")}, {});
   EXPECT_FALSE(unset.at(0).expect.has_value());
+}
+
+// One rule for runs and exact checks: the row's expect wins; a test that cannot decide expects
+// inconclusive (a control too); otherwise a control expects biased, an honest run consistent.
+TEST(PlanExpect, OneDefaultRuleForEveryTest) {
+  const RunPlan honest = plan_runs({row("genz-gaussian")}, {}).at(0);
+  const RunPlan control = plan_runs({grid({"ctl-wrong-count"}, {"genz-gaussian"})}, {}).at(0);
+  ASSERT_TRUE(control.estimator->biased);
+  EXPECT_EQ(expected_result(honest, true), "consistent");
+  EXPECT_EQ(expected_result(control, true), "biased");
+  EXPECT_EQ(expected_result(honest, false), "inconclusive");
+  EXPECT_EQ(expected_result(control, false), "inconclusive");
+  GridRequest stated = grid({"ctl-wrong-count"}, {"genz-gaussian"});
+  stated.expect = "consistent";
+  const RunPlan stated_plan = plan_runs({stated}, {}).at(0);
+  EXPECT_EQ(expected_result(stated_plan, true), "consistent");
+  EXPECT_EQ(expected_result(stated_plan, false), "consistent");
 }
 
 TEST(PlanExpect, BadExpectationIsRejectedWithTheValidList) {

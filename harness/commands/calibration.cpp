@@ -16,6 +16,7 @@
 #include "base/errors.h"
 #include "harness/plan/plan.h"
 #include "harness/run/runner.h"
+#include "harness/session/publish.h"
 #include "harness/session/report.h"
 #include "harness/verify/rounding_bound.h"
 #include "harness/verify/statistics.h"
@@ -387,11 +388,11 @@ void print_calibration(const CalibrationResult& result, std::ostream& out) {
 int publish_self_test(const char* suite, const ReportSections& sections, bool pass,
                       std::uint64_t first_seed, const SessionOptions& session, std::ostream& out,
                       std::ostream& err) {
-  const auto report_path = publish_report(
-      report_json(gather_context(session.argv, first_seed, session.threads), suite, {}, sections),
-      session, err);
-  if (!report_path) return kExitRunFailed;
-  out << "report: " << report_path->string() << "\n";
+  // The report's suite is the self-test, its seed the first of the seeds it ran.
+  SessionOptions self_test = session;
+  self_test.suite_name = suite;
+  self_test.seed = first_seed;
+  if (!publish_report(self_test, sections, out, err)) return kExitRunFailed;
   return pass ? kExitOk : kExitVerdictDiffers;
 }
 

@@ -60,20 +60,18 @@ struct RunArguments {
 };
 
 // Numbers and choices never contain commas, so for them a comma separates grid values.
-bool takes_comma_lists(const std::string& key, const GridRequest& grid) {
+bool takes_comma_lists(const std::string& key, const ResolvedGrid& grid) {
   const auto typed_in = [&](const std::vector<ParamSpec>& specs) {
     for (const ParamSpec& spec : specs) {
       if (spec.name == key) return spec.type != ParamType::kText;
     }
     return false;
   };
-  for (const std::string& name : grid.estimators) {
-    if (typed_in(find_estimator(name).params) || typed_in(find_estimator(name).scene_params)) {
-      return true;
-    }
+  for (const EstimatorEntry* estimator : grid.estimators) {
+    if (typed_in(estimator->params) || typed_in(estimator->scene_params)) return true;
   }
-  for (const std::string& name : grid.integrands) {
-    if (typed_in(find_integrand(name).params)) return true;
+  for (const IntegrandEntry* integrand : grid.integrands) {
+    if (typed_in(integrand->params)) return true;
   }
   return false;
 }
@@ -81,7 +79,7 @@ bool takes_comma_lists(const std::string& key, const GridRequest& grid) {
 // Splits `--param` flags into key -> values. Only numeric and choice keys are split on commas
 // (a grid), so an expression such as f=min(x0,y0) stays whole.
 std::map<std::string, std::vector<std::string>> params_from_flags(const RunArguments& args,
-                                                                  const GridRequest& grid) {
+                                                                  const ResolvedGrid& grid) {
   std::map<std::string, std::vector<std::string>> params;
   for (const std::string& param : args.params) {
     const auto equals = param.find('=');
@@ -106,47 +104,58 @@ std::map<std::string, std::vector<std::string>> params_from_flags(const RunArgum
 // `verify -e CONTROL` without an integrand: each negative control on its declared integrand
 // and budget, with the honest partners it is compared with (the command line's --param and
 // budget flags still apply).
-std::vector<GridRequest> declared_grids(const RunArguments& args) {
-  std::vector<GridRequest> grids;
-  for (const std::string& name : args.estimators) {
-    const EstimatorEntry& entry = find_estimator(name);
-    if (!entry.declared) {
+std::vector<ResolvedGrid> declared_grids(const RunArguments& args) {
+  const ResolvedGrid controls =
+      resolve_names({.estimators = args.estimators, .where = "command line"});
+  std::vector<ResolvedGrid> grids;
+  for (const EstimatorEntry* control : controls.estimators) {
+    if (!control->declared) {
       throw InputError(fmt::format(
           "command line: --integrand is required for '{}' (only a negative control declares its "
           "own integrand)",
-          name));
+          control->name));
     }
-    std::vector<std::string> estimators = {name};
-    estimators.insert(estimators.end(), entry.declared->partners.begin(),
-                      entry.declared->partners.end());
-    GridRequest grid{.estimators = std::move(estimators),
-                     .integrands = {entry.declared->integrand},
-                     .samples = entry.declared->samples,
-                     .replicates = entry.declared->replicates,
-                     .where = fmt::format("command line (declared workload of {})", name)};
-    grid.params = params_from_flags(args, grid);
-    for (const auto& [key, value] : entry.declared->integrand_params) {
-      if (!grid.params.count(key)) grid.params[key] = {value};
+    const DeclaredWorkload& workload = *control->declared;
+    const ResolvedGrid partners = resolve_names(
+        {.estimators = workload.partners,
+         .integrands = {workload.integrand},
+         .samples = workload.samples,
+         .replicates = workload.replicates,
+         .where = fmt::format("command line (declared workload of {})", control->name)});
+    // The control (resolved above), then its partners.
+    ResolvedGrid grid{
+        .estimators = {control}, .integrands = partners.integrands, .request = partners.request};
+    grid.request.estimators = {control->name};
+    for (std::size_t i = 0; i < partners.estimators.size(); ++i) {
+      grid.estimators.push_back(partners.estimators[i]);
+      grid.request.estimators.push_back(partners.request.estimators[i]);
+    }
+    grid.request.params = params_from_flags(args, grid);
+    for (const auto& [key, value] : workload.integrand_params) {
+      if (!grid.request.params.count(key)) grid.request.params[key] = {value};
     }
     grids.push_back(std::move(grid));
   }
   return grids;
 }
 
+// The command line's estimators, integrands and --param flags as one grid, its names resolved.
+ResolvedGrid command_line_grid(const RunArguments& args) {
+  ResolvedGrid grid = resolve_names(
+      {.estimators = args.estimators, .integrands = args.integrands, .where = "command line"});
+  grid.request.params = params_from_flags(args, grid);
+  return grid;
+}
+
 // The one-run form as grids: `--param M=1,4,16` gives three runs.
-std::vector<GridRequest> grids_from_flags(const RunArguments& args) {
+std::vector<ResolvedGrid> grids_from_flags(const RunArguments& args) {
   if (args.estimators.empty())
     throw InputError("command line: --estimator is required (or give a suite file)");
   if (args.integrands.empty()) {
     if (args.verify) return declared_grids(args);
     throw InputError("command line: --integrand is required (or give a suite file)");
   }
-  GridRequest grid;
-  grid.where = "command line";
-  grid.estimators = args.estimators;
-  grid.integrands = args.integrands;
-  grid.params = params_from_flags(args, grid);
-  return {grid};
+  return {command_line_grid(args)};
 }
 
 // Checks --out without creating anything.
@@ -262,14 +271,14 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     throw InputError("command line: give a suite file or --estimator and --integrand");
   }
 
-  std::vector<GridRequest> grids;
+  std::vector<ResolvedGrid> grids;
   BudgetDefaults budget;
   SessionOptions session = session_options(args, argv, interrupted);
   if (!args.suite_path.empty()) {
     SuiteRequest suite = load_suite(args.suite_path);
-    grids = std::move(suite.grids);
+    for (GridRequest& grid : suite.grids) grids.push_back(resolve_names(std::move(grid)));
     session.suite_name = suite.name;
-    if (suite.samples) budget.samples = *suite.samples;
+    budget.samples = suite.samples;
     if (suite.replicates) budget.replicates = *suite.replicates;
     budget.seconds = suite.seconds;
     if (suite.seed && run_app.count("--seed") == 0) session.seed = *suite.seed;
@@ -371,8 +380,8 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_option("--param,-p", args.params,
                   "key=value, repeatable; numeric and choice values may be comma lists (a grid)");
   app->add_option("--samples,-n", args.samples,
-                  "camera samples per replicate (default 100000; for a scene, samples per pixel, "
-                  "default 16)")
+                  "camera samples per replicate (default 100000 for an analytic integrand, 16 spp "
+                  "for a scene, whose samples are per pixel)")
       ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
   app->add_option("--seconds", args.seconds,
                   "equal time: CPU seconds per replicate; a pilot picks the sample count")
@@ -425,9 +434,7 @@ int reference_command_line(RunArguments args, const std::vector<std::string>& ar
                            std::ostream& out, std::ostream& err,
                            const std::atomic<bool>* interrupted) {
   if (args.estimators.empty()) args.estimators = {"plain"};
-  GridRequest grid{
-      .estimators = args.estimators, .integrands = args.integrands, .where = "command line"};
-  grid.params = params_from_flags(args, grid);
+  const ResolvedGrid grid = command_line_grid(args);
   BudgetDefaults budget;
   budget.forced_samples = args.samples > 0 ? args.samples : kDefaultReferenceSamples;
   budget.forced_replicates = args.replicates > 0 ? args.replicates : kDefaultReferenceReplicates;
@@ -435,10 +442,9 @@ int reference_command_line(RunArguments args, const std::vector<std::string>& ar
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, thread_count(args));
   if (this_rank() != 0) return serve_replicates(plans, interrupted);
   return run_reference_command(plans,
-                               {.seed = args.seed,
+                               {.runner = {.seed = args.seed, .interrupted = interrupted},
                                 .cache = args.reference_cache,
                                 .argv = argv,
-                                .interrupted = interrupted,
                                 .farm = replicate_farm(plans)},
                                out, err);
 }
@@ -469,9 +475,7 @@ void add_replay_options(CLI::App* app, RunArguments& args, ReplayRequest& reques
 
 int replay_command_line(const RunArguments& args, const ReplayRequest& request, const CLI::App& app,
                         std::ostream& out) {
-  GridRequest grid{
-      .estimators = args.estimators, .integrands = args.integrands, .where = "command line"};
-  grid.params = params_from_flags(args, grid);
+  const ResolvedGrid grid = command_line_grid(args);
   BudgetDefaults budget;
   if (app.count("--samples")) budget.forced_samples = args.samples;
   if (app.count("--replicates")) budget.forced_replicates = args.replicates;
@@ -525,7 +529,8 @@ void add_calibrate_options(CLI::App* app, CalibrateArguments& calibration, RunAr
 // calibration is of one configuration (a grid would be several calibrations).
 ParamText calibrate_params(const RunArguments& args, const std::vector<std::string>& estimators,
                            const std::vector<std::string>& integrands) {
-  GridRequest grid{.estimators = estimators, .integrands = integrands};
+  const ResolvedGrid grid =
+      resolve_names({.estimators = estimators, .integrands = integrands, .where = "command line"});
   ParamText params;
   for (const auto& [key, values] : params_from_flags(args, grid)) {
     if (values.size() != 1) {

@@ -5,6 +5,7 @@
 
 #include <ostream>
 
+#include "harness/session/publish.h"
 #include "harness/session/report.h"
 #include "harness/verify/report_compare.h"
 
@@ -35,12 +36,7 @@ int run_compare_command(const std::string& report_a, const std::string& report_b
   }
   ReportSections sections;
   sections.comparisons = comparisons_json(outcome.comparisons);
-  const auto report_path =
-      publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
-                                 options.suite_name, {}, sections),
-                     options, err);
-  if (!report_path) return kExitRunFailed;
-  out << "report: " << report_path->string() << "\n";
+  if (!publish_report(options, sections, out, err)) return kExitRunFailed;
   return outcome.as_expected() ? kExitOk : kExitVerdictDiffers;
 }
 

@@ -10,6 +10,7 @@
 #include "base/errors.h"
 #include "harness/plan/estimates_file.h"
 #include "harness/run/diagnostics.h"
+#include "harness/session/publish.h"
 #include "harness/session/report.h"
 #include "harness/verify/rounding_bound.h"
 #include "harness/verify/statistics.h"
@@ -100,10 +101,6 @@ int run_external_verification(const ExternalRequest& request, const SessionOptio
        {"tail_shape", std::isfinite(diagnostics.tail_shape) ? nlohmann::json(diagnostics.tail_shape)
                                                             : nlohmann::json()},
        {"verdict", verdict_to_json(verdict)}});
-  const auto report_path =
-      publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
-                                 options.suite_name, {}, sections),
-                     options, err);
   out << fmt::format(
       "{} estimates from {}: mean {:.6g}; {} ({}); minimum detectable bias {:.3g}{}\n",
       estimates.size(), request.estimates, mean, verdict.result, verdict.reason,
@@ -111,8 +108,7 @@ int run_external_verification(const ExternalRequest& request, const SessionOptio
       estimates.size() < kMinReplicatesForTail
           ? fmt::format(" (tail not checked: fewer than {} replicates)", kMinReplicatesForTail)
           : std::string());
-  if (!report_path) return kExitRunFailed;
-  out << "report: " << report_path->string() << "\n";
+  if (!publish_report(options, sections, out, err)) return kExitRunFailed;
   return verdict.result == verdict.expect ? kExitOk : kExitVerdictDiffers;
 }
 

@@ -10,6 +10,7 @@
 
 #include "base/comma_list.h"
 #include "base/errors.h"
+#include "harness/session/publish.h"
 #include "harness/session/report.h"
 #include "harness/verify/image_statistics.h"
 #include "harness/verify/report_compare.h"
@@ -275,17 +276,14 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
         {"expected_beyond_4_sigma_at_most", pixels.expected_beyond_4_sigma},
         {"low_count_pixels", pixels.low_count_pixels}}},
       {"image_files", files}};
-  const auto report_path =
-      publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
-                                 options.suite_name, {}, sections),
-                     options, folder, err);
   for (const Comparison& c : comparisons) {
     out << fmt::format("{}: {}{} ({})\n", c.estimator, c.result,
                        c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect),
                        c.reason);
   }
-  if (!report_path) return kExitRunFailed;
-  out << "report: " << report_path->string() << "\n";
+  if (!publish_report(options, folder, session_context(options), {}, sections, out, err)) {
+    return kExitRunFailed;
+  }
   const bool as_expected = std::all_of(comparisons.begin(), comparisons.end(),
                                        [](const Comparison& c) { return c.result == c.expect; });
   return as_expected ? kExitOk : kExitVerdictDiffers;

@@ -41,7 +41,7 @@ int run_reference_command(const std::vector<RunPlan>& plans, const ReferenceOpti
                           std::ostream& out, std::ostream& err) {
   for (const RunPlan& plan : plans) checked_scene(plan);  // all checked before any work
   const ReferenceCache cache(options.cache);
-  const Context context = gather_context(options.argv, options.seed, 0);
+  const Context context = gather_context(options.argv, options.runner.seed, 0);
   int status = kExitOk;
   for (const RunPlan& plan : plans) {
     const scene::SceneDescription& scene = checked_scene(plan).scene().description();
@@ -52,9 +52,8 @@ int run_reference_command(const std::vector<RunPlan>& plans, const ReferenceOpti
     // even a run of the same estimator with the same budget and seed.
     RunPlan own = plan;
     own.id_hash = fnv1a(plan.id_hash, "reference-image");
-    const RunnerOptions runner{.seed = options.seed, .interrupted = options.interrupted};
-    const RunResult result =
-        options.farm != nullptr ? options.farm->run(own, runner) : execute_scene_run(own, runner);
+    const RunResult result = options.farm != nullptr ? options.farm->run(own, options.runner)
+                                                     : execute_scene_run(own, options.runner);
     if (result.status != RunStatus::kOk) {
       err << fmt::format("pcbench: {} × {}: no reference ({}{})\n", plan.estimator->name,
                          plan.integrand->name, to_string(result.status),
@@ -75,7 +74,7 @@ int run_reference_command(const std::vector<RunPlan>& plans, const ReferenceOpti
                        {"estimator_params", params},
                        {"samples_per_pixel", plan.samples},
                        {"replicates", plan.replicates},
-                       {"seed", options.seed},
+                       {"seed", options.runner.seed},
                        {"cpu_seconds", cpu},
                        {"date", context.date},
                        {"version", context.version},

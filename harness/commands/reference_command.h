@@ -11,14 +11,15 @@
 
 #include "harness/plan/plan.h"
 #include "harness/run/replicate_farm.h"
+#include "harness/run/runner.h"
 
 namespace pcbench {
 
 struct ReferenceOptions {
-  std::uint64_t seed = 1;
+  // Seed and interrupt flag, built once for every image of the command.
+  RunnerOptions runner;
   std::filesystem::path cache;
   std::vector<std::string> argv;
-  const std::atomic<bool>* interrupted = nullptr;
   ReplicateFarm* farm = nullptr;  // rank 0 of an MPI job: the replicates over all ranks
 };
 

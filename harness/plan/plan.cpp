@@ -12,6 +12,12 @@ namespace pcbench {
 
 const std::vector<std::string> kExpectations = {"consistent", "biased", "inconclusive"};
 
+std::string expected_result(const RunPlan& plan, bool decidable) {
+  if (plan.expect) return *plan.expect;
+  if (!decidable) return "inconclusive";
+  return plan.estimator->biased ? "biased" : "consistent";
+}
+
 namespace {
 
 bool declares(const std::vector<ParamSpec>& specs, const std::string& key) {
@@ -72,15 +78,16 @@ struct Row {
 // Expands one grid into rows; a key the row's estimator and integrand do not read is dropped for
 // that row, and a key no row reads is an error (a typo would otherwise vanish silently). Throws
 // when the rows, with `earlier` rows of the grids before, would be more than kMaxRuns.
-std::vector<Row> expand(const GridRequest& grid, std::size_t earlier) {
-  if (grid.estimators.empty()) throw InputError(grid.where + ": no estimator given");
-  if (grid.integrands.empty()) throw InputError(grid.where + ": no integrand given");
+std::vector<Row> expand(const ResolvedGrid& resolved, std::size_t earlier) {
+  const GridRequest& grid = resolved.request;
+  if (resolved.estimators.empty()) throw InputError(grid.where + ": no estimator given");
+  if (resolved.integrands.empty()) throw InputError(grid.where + ": no integrand given");
   std::vector<Row> rows;
   std::set<std::string> keys_read;
-  for (const std::string& estimator_name : grid.estimators) {
-    const EstimatorEntry& estimator = find_estimator(estimator_name);
-    for (const std::string& integrand_name : grid.integrands) {
-      const IntegrandEntry& integrand = find_integrand(integrand_name);
+  for (const EstimatorEntry* estimator_entry : resolved.estimators) {
+    const EstimatorEntry& estimator = *estimator_entry;
+    for (const IntegrandEntry* integrand_entry : resolved.integrands) {
+      const IntegrandEntry& integrand = *integrand_entry;
       const std::vector<ParamSpec>& specs = estimator_specs(estimator, integrand, grid.where);
       std::vector<ParamText> partial = {{}};
       for (const auto& [key, values] : grid.params) {
@@ -108,13 +115,13 @@ std::vector<Row> expand(const GridRequest& grid, std::size_t earlier) {
   for (const auto& [key, values] : grid.params) {
     if (keys_read.count(key)) continue;
     std::string readers;
-    for (const std::string& name : grid.estimators) {
-      readers += fmt::format("; estimator '{}' reads: {}", name,
-                             names_or_none(find_estimator(name).params));
+    for (const EstimatorEntry* estimator : resolved.estimators) {
+      readers += fmt::format("; estimator '{}' reads: {}", estimator->name,
+                             names_or_none(estimator->params));
     }
-    for (const std::string& name : grid.integrands) {
-      readers += fmt::format("; integrand '{}' reads: {}", name,
-                             names_or_none(find_integrand(name).params));
+    for (const IntegrandEntry* integrand : resolved.integrands) {
+      readers += fmt::format("; integrand '{}' reads: {}", integrand->name,
+                             names_or_none(integrand->params));
     }
     throw InputError(fmt::format("{}: parameter '{}' is read by no estimator or integrand{}",
                                  grid.where, key, readers));
@@ -123,6 +130,33 @@ std::vector<Row> expand(const GridRequest& grid, std::size_t earlier) {
 }
 
 }  // namespace
+
+ResolvedGrid resolve_names(GridRequest grid) {
+  ResolvedGrid resolved;
+  try {
+    for (const std::string& name : grid.estimators) {
+      resolved.estimators.push_back(&find_estimator(name));
+    }
+    for (const std::string& name : grid.integrands) {
+      resolved.integrands.push_back(&find_integrand(name));
+    }
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", grid.where, e.what()));
+  }
+  resolved.request = std::move(grid);
+  return resolved;
+}
+
+std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
+                               const BudgetDefaults& budget) {
+  std::vector<ResolvedGrid> resolved;
+  for (const GridRequest& grid : grids) resolved.push_back(resolve_names(grid));
+  return plan_runs(resolved, budget);
+}
+
+std::uint64_t default_samples(const IntegrandEntry& integrand) {
+  return is_scene(integrand) ? kDefaultScenePixelSamples : kDefaultSamples;
+}
 
 std::uint64_t run_id_hash(const std::string& estimator, const std::string& integrand,
                           const std::map<std::string, std::string>& effective_params,
@@ -172,7 +206,7 @@ RunPlan with_chosen_samples(const RunPlan& plan, std::uint64_t samples) {
   return chosen;
 }
 
-std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
+std::vector<RunPlan> plan_runs(const std::vector<ResolvedGrid>& grids,
                                const BudgetDefaults& budget) {
   std::vector<RunPlan> plans;
   struct SeenRow {
@@ -181,13 +215,14 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
   };
   std::map<std::uint64_t, SeenRow> seen;
   std::size_t rows_so_far = 0;  // before identical rows collapse: what expanding costs
-  for (const GridRequest& grid : grids) {
+  for (const ResolvedGrid& resolved : grids) {
+    const GridRequest& grid = resolved.request;
     if (grid.expect && std::find(kExpectations.begin(), kExpectations.end(), *grid.expect) ==
                            kExpectations.end()) {
       throw InputError(fmt::format("{}: expect '{}' is not valid; valid: {}", grid.where,
                                    *grid.expect, join_names(kExpectations)));
     }
-    std::vector<Row> rows = expand(grid, rows_so_far);
+    std::vector<Row> rows = expand(resolved, rows_so_far);
     rows_so_far += rows.size();
     for (Row& row : rows) {
       RunPlan plan;
@@ -201,10 +236,9 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
       plan.integrand_params =
           resolve_params(row.integrand->params, row.params,
                          fmt::format("{}: integrand '{}'", grid.where, row.integrand->name));
-      // A scene's samples are per pixel; its default budget is kDefaultScenePixelSamples.
-      const std::uint64_t default_samples =
-          scene && budget.samples == kDefaultSamples ? kDefaultScenePixelSamples : budget.samples;
-      plan.samples = budget.forced_samples.value_or(grid.samples.value_or(default_samples));
+      // The command line, else the row, else the suite, else the integrand kind's default.
+      plan.samples = budget.forced_samples.value_or(
+          grid.samples.value_or(budget.samples.value_or(default_samples(*row.integrand))));
       plan.replicates =
           budget.forced_replicates.value_or(grid.replicates.value_or(budget.replicates));
       // Samples given on the command line win over any seconds; seconds on the command line
@@ -225,7 +259,8 @@ std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids,
         throw InputError(fmt::format("{}: samples = {} is out of range [1, {}]", grid.where,
                                      plan.samples, kMaxSamples));
       }
-      if (static_cast<double>(plan.samples) * plan.replicates > kMaxTotalSamples) {
+      // samples <= 2^32 and replicates < 2^32 here: the product fits in 64 bits.
+      if (static_cast<double>(plan.total_samples()) > kMaxTotalSamples) {
         throw InputError(fmt::format(
             "{}: samples × replicates = {} × {} exceeds {:.0e} camera samples in one run",
             grid.where, plan.samples, plan.replicates, kMaxTotalSamples));

@@ -17,8 +17,9 @@
 
 namespace pcbench {
 
-inline constexpr std::uint64_t kDefaultSamples = 100000;
-inline constexpr std::uint64_t kDefaultScenePixelSamples = 16;  // samples per pixel
+// The budget when nothing sets one, per integrand kind (default_samples).
+inline constexpr std::uint64_t kDefaultSamples = 100000;        // analytic: samples
+inline constexpr std::uint64_t kDefaultScenePixelSamples = 16;  // scene: samples per pixel
 inline constexpr std::uint32_t kDefaultReplicates = 32;
 inline constexpr std::uint64_t kDefaultSeed = 1;
 // Counter layout limits of the random streams (base/rng.h).
@@ -42,10 +43,25 @@ struct GridRequest {
   std::string where = {};  // "suites/x.json: /grid/0" or "command line"
 };
 
+// A grid with its names looked up in the registries: the one place a name is resolved. What
+// comes after (splitting --param values, expanding, planning, running) uses these entries.
+struct ResolvedGrid {
+  std::vector<const EstimatorEntry*> estimators = {};
+  std::vector<const IntegrandEntry*> integrands = {};
+  // Params, budget, expect and where; its name lists are the ones resolved above.
+  GridRequest request = {};
+};
+
+// Looks each name of `grid` up once; InputError naming grid.where, the unknown name and the
+// valid ones.
+ResolvedGrid resolve_names(GridRequest grid);
+
 // Budget settings that apply unless a row sets its own; `forced` values (from the command line)
 // override rows too.
 struct BudgetDefaults {
-  std::uint64_t samples = kDefaultSamples;
+  // Unset: the default of the integrand's kind (default_samples), so that an explicit 100000 is
+  // 100000 on a scene too.
+  std::optional<std::uint64_t> samples = {};
   std::uint32_t replicates = kDefaultReplicates;
   std::optional<std::uint64_t> forced_samples = {};
   std::optional<std::uint32_t> forced_replicates = {};
@@ -73,6 +89,9 @@ struct RunPlan {
   ResolvedParams integrand_params;
   std::uint64_t samples = 0;  // 0 for an equal-time run until its pilot has chosen N
   std::uint32_t replicates = 0;
+  // The run's samples over all its replicates: its work, for progress and limits (0 for an
+  // equal-time run until its pilot has chosen N).
+  std::uint64_t total_samples() const { return samples * replicates; }
   // Equal time: CPU seconds per replicate (an analytic replicate's thread CPU summed over its
   // chunks, a scene replicate's process CPU: all threads either way; harness/run/equal_time.h). A
   // short pilot measures the cost per sample (per pixel, for a scene); the run then takes a
@@ -91,8 +110,16 @@ struct RunPlan {
   std::shared_ptr<const Integrand> made_integrand;
 };
 
+// The samples of a run whose row, suite and command line set none: kDefaultSamples on an
+// analytic integrand, kDefaultScenePixelSamples per pixel on a scene.
+std::uint64_t default_samples(const IntegrandEntry& integrand);
+
 // Expands every grid, resolves and builds each row, and collapses rows with the same id (the
 // first occurrence stays). Throws InputError on the first bad input.
+std::vector<RunPlan> plan_runs(const std::vector<ResolvedGrid>& grids,
+                               const BudgetDefaults& budget);
+// The same for grids not resolved yet (suite files, calibrations, tests): resolve_names, then
+// plan_runs.
 std::vector<RunPlan> plan_runs(const std::vector<GridRequest>& grids, const BudgetDefaults& budget);
 
 // Sets plan.id_hash and plan.id from its estimator, integrand, effective params and budget.
@@ -112,5 +139,11 @@ std::uint64_t run_id_hash(const std::string& estimator, const std::string& integ
                           std::uint64_t samples, std::uint32_t replicates);
 
 extern const std::vector<std::string> kExpectations;  // consistent, biased, inconclusive
+
+// The one rule for what a test of `plan` is expected to find, sampled runs and `--exact` checks
+// alike: the row's `expect` if given; else "inconclusive" when the test cannot decide
+// (`decidable` false: no reference, a t-test on an infinite-variance integrand, no resampling
+// step to enumerate); else "biased" for a negative control; else "consistent".
+std::string expected_result(const RunPlan& plan, bool decidable);
 
 }  // namespace pcbench

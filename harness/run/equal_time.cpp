@@ -48,8 +48,12 @@ RunPlan choose_samples(const RunPlan& plan, const RunnerOptions& options,
   pilot.replicates = 2;
   pilot.pilot = true;
   assign_id(pilot);
-  const RunResult result =
-      execute_run(pilot, {.seed = options.seed, .interrupted = options.interrupted});
+  // The run's options, but a pilot only measures the cost: no progress counter, no strategy
+  // images (their buffers would cost time the run without them does not spend).
+  RunnerOptions pilot_options = options;
+  pilot_options.samples_done = nullptr;
+  pilot_options.strategy_images = false;
+  const RunResult result = execute_run(pilot, pilot_options);
   double cpu = 0.0;
   for (const ReplicateResult& rep : result.replicates) cpu += rep.cpu_seconds;
   const double per_sample = cpu / static_cast<double>(2 * rule.samples);

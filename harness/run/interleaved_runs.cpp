@@ -31,7 +31,7 @@ std::vector<RunResult> execute_interleaved(const std::vector<const RunPlan*>& pl
     std::uint64_t work = 0;
     std::uint32_t rounds = 0;
     for (std::size_t i : group) {
-      work += plans[i]->samples * plans[i]->replicates;
+      work += plans[i]->total_samples();
       rounds = std::max(rounds, plans[i]->replicates);
     }
     const RunPlan& first = *plans[group.front()];

@@ -5,21 +5,16 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <array>
-#include <chrono>
-#include <ctime>
 #include <deque>
 #include <filesystem>
 #include <ostream>
 #include <stdexcept>
 
-#include <unistd.h>
-
-#include "base/atomic_file.h"
 #include "harness/run/equal_time.h"
 #include "harness/run/interleaved_runs.h"
 #include "harness/run/progress.h"
 #include "harness/run/replay.h"
+#include "harness/session/publish.h"
 #include "harness/session/report.h"
 #include "harness/session/summary.h"
 #include "harness/verify/efficiency_ratio.h"
@@ -32,45 +27,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// results/runs/<UTC date-time>[-k]: a new folder name, never an existing one.
-fs::path default_run_folder() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  std::array<char, 32> stamp{};
-  std::strftime(stamp.data(), stamp.size(), "%Y%m%d-%H%M%S", &tm);
-  const fs::path runs = fs::path("results") / "runs";
-  fs::path folder = runs / stamp.data();
-  for (int k = 2; fs::exists(folder); ++k) folder = runs / fmt::format("{}-{}", stamp.data(), k);
-  return folder;
-}
-
-// Points results/latest at `folder`, replacing the old link atomically.
-void update_latest_link(const fs::path& folder) {
-  const fs::path link = fs::path("results") / "latest";
-  const fs::path temporary = fs::path("results") / fmt::format(".latest.{}", ::getpid());
-  std::error_code ignored;
-  fs::remove(temporary, ignored);
-  fs::create_directory_symlink(fs::relative(folder, "results"), temporary);
-  std::error_code error;
-  fs::rename(temporary, link, error);
-  if (error) {
-    fs::remove(temporary, ignored);
-    throw std::runtime_error(link.string() + ": " + error.message());
-  }
-}
-
-bool declared_infinite_variance(const RunPlan& plan) {
-  return plan.integrand->has_tag("infinite-variance");
-}
-
-std::string default_expectation(const RunPlan& plan, const Reference& reference) {
-  if (plan.expect) return *plan.expect;
-  // Without a reference nothing can be tested against it (pairwise comparisons still can).
-  if (reference.kind == ReferenceKind::kNone) return "inconclusive";
-  if (plan.estimator->biased) return "biased";
-  if (declared_infinite_variance(plan)) return "inconclusive";
-  return "consistent";
+// Whether a t-test of the run against its reference can decide: not without a reference
+// (pairwise comparisons still can), nor where the integrand declares an infinite variance.
+bool t_test_decides(const RunPlan& plan, const Reference& reference) {
+  return reference.kind != ReferenceKind::kNone && !plan.integrand->has_tag("infinite-variance");
 }
 
 // Student's t assumes a finite variance and replicate means near normal; where the samples say
@@ -78,7 +38,7 @@ std::string default_expectation(const RunPlan& plan, const Reference& reference)
 // confidence the test does not have, so the run is inconclusive with the reason.
 Verdict verdict_for(const RunPlan& plan, const RunResult& result,
                     const SampleDiagnostics& diagnostics) {
-  const std::string expect = default_expectation(plan, result.reference);
+  const std::string expect = expected_result(plan, t_test_decides(plan, result.reference));
   if (const std::optional<std::string> reason = untestable_reason(diagnostics)) {
     return untested_verdict(*reason, expect);
   }
@@ -87,47 +47,13 @@ Verdict verdict_for(const RunPlan& plan, const RunResult& result,
 
 }  // namespace
 
-std::optional<fs::path> publish_report(const std::string& report, const SessionOptions& options,
-                                       std::ostream& err) {
-  return publish_report(report, options, report_folder(options), err);
-}
-
-fs::path report_folder(const SessionOptions& options) {
-  return options.out_dir ? fs::path(*options.out_dir) : default_run_folder();
-}
-
-std::optional<fs::path> publish_report(const std::string& report, const SessionOptions& options,
-                                       const fs::path& folder, std::ostream& err) {
-  const bool default_folder = !options.out_dir.has_value();
-  const fs::path report_path = folder / "report.json";
-  try {
-    write_file_atomically(report_path, report);
-  } catch (const std::exception& e) {
-    err << "pcbench: error: cannot write the report " << report_path.string() << ": " << e.what()
-        << "\n";
-    return std::nullopt;
-  }
-  if (default_folder) {
-    try {
-      update_latest_link(folder);
-    } catch (const std::exception& e) {
-      // The report is written; only the convenience link failed.
-      err << "pcbench: warning: results/latest not updated: " << e.what() << "\n";
-    }
-  }
-  return report_path;
-}
-
 int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& options,
                       std::ostream& out, std::ostream& err) {
   ReportSections sections;
   bool differs = false;
   for (const RunPlan& plan : plans) {
     ExactRecord record{.plan = &plan, .check = exact_check(plan, options.seed)};
-    record.expect = plan.expect               ? *plan.expect
-                    : plan.estimator->biased  ? "biased"
-                    : record.check.applicable ? "consistent"
-                                              : "inconclusive";
+    record.expect = expected_result(plan, record.check.applicable);
     if (record.check.result != record.expect) differs = true;
     if (!options.quiet) {
       out << fmt::format("{:<24} {:<18} {:<12} (expected {}): {}\n", plan.estimator->name,
@@ -136,12 +62,7 @@ int run_exact_session(const std::vector<RunPlan>& plans, const SessionOptions& o
     }
     sections.exact_checks.push_back(std::move(record));
   }
-  const std::optional<fs::path> report_path =
-      publish_report(report_json(gather_context(options.argv, options.seed, options.threads),
-                                 options.suite_name, {}, sections),
-                     options, err);
-  if (!report_path) return kExitRunFailed;
-  out << "report: " << report_path->string() << "\n";
+  if (!publish_report(options, sections, out, err)) return kExitRunFailed;
   return differs ? kExitVerdictDiffers : kExitOk;
 }
 
@@ -216,8 +137,9 @@ RunRecord finished_record(const RunPlan& plan, RunResult result, const SessionOp
 }
 
 // Runs one plan, or restores it from the journal, and tests it alone.
-RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, RunStore& store,
-                           bool& interrupted, ProgressReporter& progress, std::ostream& err) {
+RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options,
+                           const RunnerOptions& runner, RunStore& store, bool& interrupted,
+                           ProgressReporter& progress, std::ostream& err) {
   if (std::optional<RunRecord> restored = restored_record(plan, store, progress)) {
     return std::move(*restored);
   }
@@ -225,15 +147,12 @@ RunRecord execute_and_test(const RunPlan& plan, const SessionOptions& options, R
   if (interrupted) {
     return tested_record(plan, not_run_result(plan, "interrupted before the run started"));
   }
-  std::atomic<std::uint64_t>* samples_done =
-      progress.run_started(fmt::format("{} × {}", plan.estimator->name, plan.integrand->name),
-                           plan.samples * plan.replicates);
-  const RunnerOptions runner{.seed = options.seed,
-                             .interrupted = options.interrupted,
-                             .samples_done = samples_done,
-                             .strategy_images = options.strategy_images};
+  // The session's options with this run's progress counter.
+  RunnerOptions this_run = runner;
+  this_run.samples_done = progress.run_started(
+      fmt::format("{} × {}", plan.estimator->name, plan.integrand->name), plan.total_samples());
   RunResult result =
-      options.farm != nullptr ? options.farm->run(plan, runner) : execute_run(plan, runner);
+      options.farm != nullptr ? options.farm->run(plan, this_run) : execute_run(plan, this_run);
   if (result.status == RunStatus::kNotRun) interrupted = true;
   RunRecord record = finished_record(plan, std::move(result), options, store, progress, err);
   progress.run_finished(outcome_of(record));
@@ -301,6 +220,12 @@ std::vector<std::pair<Comparison, Verdict>> pairwise_comparisons(
 
 }  // namespace
 
+RunnerOptions runner_options(const SessionOptions& options) {
+  return {.seed = options.seed,
+          .interrupted = options.interrupted,
+          .strategy_images = options.strategy_images};
+}
+
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err) {
   // The folder is chosen first: finished runs are saved there as they finish
@@ -317,13 +242,14 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     }
   }
 
+  const RunnerOptions runner = runner_options(options);
   std::vector<RunRecord> records;
   records.reserve(plans.size());
   bool interrupted = false;
   std::deque<RunPlan> chosen_plans;  // stable addresses for the records that point at them
   std::uint64_t planned_work = 0;
   for (const RunPlan& plan : plans) {
-    if (store->find(plan.id) == nullptr) planned_work += plan.samples * plan.replicates;
+    if (store->find(plan.id) == nullptr) planned_work += plan.total_samples();
   }
   std::optional<ProgressReporter> progress;
   progress.emplace(progress_mode(err, options.quiet), err, plans.size(), planned_work);
@@ -336,12 +262,10 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
       chosen_plans.push_back(restored_choice(plan, *saved));
       to_run.back() = &chosen_plans.back();
     } else if (!(options.interrupted != nullptr && options.interrupted->load())) {
-      chosen_plans.push_back(choose_samples(
-          plan, {.seed = options.seed, .interrupted = options.interrupted}, *progress));
+      chosen_plans.push_back(choose_samples(plan, runner, *progress));
       to_run.back() = &chosen_plans.back();
       // The pilot's choice replaces the planned count in the time left.
-      progress->add_work(
-          chosen_plans.back().samples * plan.replicates - plan.samples * plan.replicates, 0);
+      progress->add_work(chosen_plans.back().total_samples() - plan.total_samples(), 0);
     }
   }
   // The journal's runs are restored; the others run.
@@ -351,12 +275,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   }
   if (options.interleave) {
     // Interleaved, then saved.
-    std::vector<RunResult> results =
-        execute_interleaved(pending,
-                            {.seed = options.seed,
-                             .interrupted = options.interrupted,
-                             .strategy_images = options.strategy_images},
-                            *progress);
+    std::vector<RunResult> results = execute_interleaved(pending, runner, *progress);
     std::size_t next = 0;
     for (const RunPlan* plan : to_run) {
       if (std::optional<RunRecord> restored = restored_record(*plan, *store, *progress)) {
@@ -369,11 +288,11 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     }
   } else {
     if (options.farm != nullptr) {
-      options.farm->announce(pending,
-                             {.seed = options.seed, .strategy_images = options.strategy_images});
+      options.farm->announce(pending, runner);
     }
     for (const RunPlan* plan : to_run) {
-      records.push_back(execute_and_test(*plan, options, *store, interrupted, *progress, err));
+      records.push_back(
+          execute_and_test(*plan, options, runner, *store, interrupted, *progress, err));
     }
   }
 
@@ -416,9 +335,9 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
                                   .result = record.verdict->result,
                                   .reason = record.verdict->reason};
         later_plans.push_back(with_samples(*record.plan, record.plan->samples * kEscalationFactor));
-        progress->add_work(later_plans.back().samples * later_plans.back().replicates, 1);
-        RunRecord next =
-            execute_and_test(later_plans.back(), options, *store, interrupted, *progress, err);
+        progress->add_work(later_plans.back().total_samples(), 1);
+        RunRecord next = execute_and_test(later_plans.back(), options, runner, *store, interrupted,
+                                          *progress, err);
         if (next.verdict) {
           std::vector<Verdict*> alone = {&*next.verdict};
           decide_family(alone, stage_alpha);
@@ -444,21 +363,6 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   }
   sections.comparisons = comparisons_json(finished);
   sections.efficiency_ratios = efficiency_ratios_json(records, options.interleave);
-  std::optional<fs::path> report_path;
-  try {
-    const ReferenceCache cache(options.reference_cache);
-    write_scene_images(records, folder, &cache, options.replicate_images, err);
-    Context context = gather_context(options.argv, options.seed, options.threads);
-    if (options.resume) {
-      context.restored_runs = store->restored();
-    }
-    if (options.farm != nullptr) context.ranks = rank_count();
-    report_path = publish_report(report_json(context, options.suite_name, records, sections),
-                                 options, folder, err);
-  } catch (const std::exception& e) {
-    err << "pcbench: error: cannot write the images of " << folder.string() << ": " << e.what()
-        << "\n";
-  }
   if (!options.quiet) {
     print_summary(records, out);
     for (const Comparison& c : finished) {
@@ -468,8 +372,21 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
     }
     if (options.interleave) print_efficiency_ratios(sections.efficiency_ratios, out);
   }
-  if (!report_path) return kExitRunFailed;
-  out << "report: " << report_path->string() << "\n";
+  bool published = false;
+  try {
+    const ReferenceCache cache(options.reference_cache);
+    write_scene_images(records, folder, &cache, options.replicate_images, err);
+    Context context = session_context(options);
+    if (options.resume) {
+      context.restored_runs = store->restored();
+    }
+    if (options.farm != nullptr) context.ranks = rank_count();
+    published = publish_report(options, folder, context, records, sections, out, err);
+  } catch (const std::exception& e) {
+    err << "pcbench: error: cannot write the images of " << folder.string() << ": " << e.what()
+        << "\n";
+  }
+  if (!published) return kExitRunFailed;
   if (interrupted) {
     err << fmt::format(
         "pcbench: interrupted; the finished runs are saved in {}: the same command with --out {} "

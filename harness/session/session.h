@@ -72,18 +72,10 @@ struct SessionOptions {
   bool journal_only = false;
 };
 
-// Writes `report` atomically as report.json in the run folder (options.out_dir, or a new
-// results/runs/<date-time>/ linked as results/latest). Returns its path, or nothing after
-// writing the reason to `err`.
-std::optional<std::filesystem::path> publish_report(const std::string& report,
-                                                    const SessionOptions& options,
-                                                    std::ostream& err);
-// The folder a session's report (and images) go to, and publishing into a folder chosen before.
-std::filesystem::path report_folder(const SessionOptions& options);
-std::optional<std::filesystem::path> publish_report(const std::string& report,
-                                                    const SessionOptions& options,
-                                                    const std::filesystem::path& folder,
-                                                    std::ostream& err);
+// The runner's options of a session, built once (seed, interrupt flag, strategy images) and
+// passed down; a run's variations (its progress counter, a pilot, one replicate on a rank of an
+// MPI job) are copies of it with that field set.
+RunnerOptions runner_options(const SessionOptions& options);
 
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err);
