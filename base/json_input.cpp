@@ -15,6 +15,54 @@ namespace {
 
 using Json = JsonInput::Json;
 
+// "LINE:COLUMN" (1-based) of the byte before offset `byte` of `text`: where nlohmann-json's
+// parse_error::byte points, for error messages about JSON input.
+std::string line_and_column(std::string_view text, std::size_t byte) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return std::to_string(line) + ":" + std::to_string(column);
+}
+
+// The message for a number nlohmann-json cannot hold as a double ("1e999", its out_of_range
+// error 406), as "FILE:LINE:COLUMN: ..." at the first place `text` has the number its message
+// quotes, or "FILE: ..." when it has none.
+std::string json_number_error(std::string_view text, std::string_view file,
+                              const std::string& message) {
+  const std::size_t open = message.find('\''), close = message.rfind('\'');
+  const std::size_t at =
+      open < close ? text.find(message.substr(open + 1, close - open - 1)) : std::string_view::npos;
+  std::string out(file);
+  if (at != std::string_view::npos) {
+    out += ':';
+    out += line_and_column(text, at + 1);
+  }
+  out += ": ";
+  out += message;
+  return out;
+}
+
+// A key as a JSON pointer token (RFC 6901): '~' and '/' escaped.
+std::string json_pointer_token(std::string_view key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') {
+      out += "~0";
+    } else if (c == '/') {
+      out += "~1";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 // Where the parser is while it reads the document, so that a repeated key can be reported by
 // its JSON pointer (nlohmann-json's parse callbacks give no byte offset).
 class PointerTracker {
@@ -83,8 +131,9 @@ Json JsonInput::parse(std::string_view text) const {
     // e.byte is the offset of the error; turn it into a line and column.
     throw InputError(fmt::format("{}:{}: JSON syntax error: {}", source_,
                                  line_and_column(text, e.byte), e.what()));
-  } catch (const Json::out_of_range& e) {
-    // A number too large for a double ("1e999") is not a syntax error to the parser.
+  } catch (const Json::exception& e) {
+    // A number too large for a double ("1e999") is not a syntax error to the parser but an
+    // out_of_range error; any other parser error is bad input too.
     throw InputError(json_number_error(text, source_, e.what()));
   }
 }
