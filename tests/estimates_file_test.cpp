@@ -146,7 +146,8 @@ const std::string kOkRunWithNull = ok_run_with_null();
 TEST(EstimatesFileErrors, EveryBadInputNamesItsLocationAndTheProblem) {
   const std::vector<BadInput> cases = {
       // The file as a whole.
-      {"missing file", "missing.csv", nullptr, ": ", "no such file"},
+      {"missing file", "missing.csv", nullptr, ": ",
+       "cannot open the file of estimates: No such file or directory"},
       {"unknown extension", "e.dat", "1\n2\n", ": ",
        "unknown extension '.dat'; valid extensions: .csv, .txt, .json"},
       {"no extension", "estimates", "1\n2\n", ": ",
@@ -199,7 +200,7 @@ TEST(EstimatesFileErrors, EveryBadInputNamesItsLocationAndTheProblem) {
        ": /estimates: ", "key 'estimates' appears twice in one object"},
       {"JSON nested duplicate key", "e.json", R"({"x": [0, {"k": 1, "k": 2}], "estimates": [])",
        ": /x/1/k: ", "key 'k' appears twice"},
-      {"JSON overflowing number", "e.json", "[1e999, 1]", ": ", "number overflow"},
+      {"JSON overflowing number", "e.json", "[1e999, 1]", ":1:2: ", "number overflow"},
       // Reports.
       {"report with two runs", "r.json", kTwoRuns.c_str(), ": /runs: ",
        "the report has 2 runs; pick one by its id: 0123456789abcdef (plain on genz-gaussian, ok), "
@@ -244,8 +245,8 @@ TEST(EstimatesFileErrors, FolderIsNotAFile) {
     read_estimates(folder.path() / "dir.csv");
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              (folder.path() / "dir.csv").string() + ": is a directory, not a file of estimates");
+    EXPECT_EQ(std::string(e.what()), (folder.path() / "dir.csv").string() +
+                                         ": cannot read the file of estimates: Is a directory");
   }
 }
 

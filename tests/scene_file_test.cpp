@@ -246,7 +246,7 @@ TEST(SceneFileErrors, BadInputsNameTheLocationAndTheReason) {
        {"scene.json:1:", "JSON syntax error"}},
       {"overflow", "{\n \"max_length\": 1e999}", {"scene.json:2:16:", "1e999"}},
       {"not an object", "[1, 2]", {"scene.json: /: must be an object"}},
-      {"duplicate key", duplicate, {"/shapes/1/material: key appears twice"}},
+      {"duplicate key", duplicate, {"/shapes/1/material: key 'material' appears twice"}},
       {"unknown top key",
        scene_with("/shape", 1),
        {"/shape: unknown key 'shape'; valid keys: name, description, camera",
@@ -387,7 +387,7 @@ TEST(SceneFileErrors, BadObjFilesNameTheFileAndTheReason) {
   const std::vector<BadScene> cases = {
       {"missing OBJ",
        obj("nope.obj"),
-       {"scene.json: /shapes/0/file: OBJ file '", "nope.obj", "does not exist"}},
+       {"scene.json: /shapes/0/file: ", "nope.obj: cannot open the OBJ file: No such file"}},
       {"tinyobjloader error",
        obj("bad_face.obj"),
        {"/shapes/0/file: OBJ file '", "bad_face.obj' cannot be loaded", "Failed parse `f' line"}},

@@ -4,23 +4,19 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <map>
-#include <nlohmann/json.hpp>
-#include <set>
-#include <sstream>
 #include <utility>
 
 #include "base/errors.h"
+#include "base/json_input.h"
+#include "base/text_file.h"
 
 namespace pcbench {
 namespace {
 
-using Json = nlohmann::json;
+using Json = JsonInput::Json;
 
 constexpr const char* kNeedTwo = "a test needs at least 2 replicate estimates";
 
@@ -93,28 +89,6 @@ std::string number_problem(std::string_view text, std::size_t replicate, double&
 std::string too_few(std::size_t count, const std::string& where = "") {
   return fmt::format("{} {} found{}; {}", count, count == 1 ? "estimate" : "estimates", where,
                      kNeedTwo);
-}
-
-std::string read_file(const std::filesystem::path& file) {
-  const std::string name = file.string();
-  std::error_code error;
-  const auto status = std::filesystem::status(file, error);
-  if (!std::filesystem::exists(status)) {
-    throw InputError(fmt::format("{}: no such file", name));
-  }
-  if (std::filesystem::is_directory(status)) {
-    throw InputError(fmt::format("{}: is a directory, not a file of estimates", name));
-  }
-  errno = 0;
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    throw InputError(fmt::format("{}: cannot open the file for reading: {}", name,
-                                 errno != 0 ? std::strerror(errno) : "unknown error"));
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(fmt::format("{}: error while reading the file", name));
-  return text.str();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -302,11 +276,6 @@ class DelimitedParser {
 // ---------------------------------------------------------------------------------------------
 // JSON
 
-[[noreturn]] void fail_at(const std::string& name, const std::string& pointer,
-                          const std::string& why) {
-  throw InputError(fmt::format("{}: {}: {}", name, pointer.empty() ? "/" : pointer, why));
-}
-
 std::string kind_of(const Json& value) {
   if (value.is_null()) return "null";
   if (value.is_boolean()) return fmt::format("the boolean {}", value.dump());
@@ -316,90 +285,29 @@ std::string kind_of(const Json& value) {
   return "an object";
 }
 
-// Parses JSON, refusing a key that repeats within one object (JSON lets the last one silently
-// win). Syntax errors are located by line and column, a repeated key by its JSON pointer.
-Json parse_json(const std::string& name, const std::string& text) {
-  struct Frame {
-    bool object = false;
-    std::set<std::string> keys = {};
-    std::string key = {};   // objects: the member being parsed
-    std::size_t index = 0;  // arrays: the element being parsed
-  };
-  std::vector<Frame> frames;
-  const auto pointer_to = [&](std::size_t depth) {
-    std::string pointer;
-    for (std::size_t i = 0; i < depth; ++i) {
-      pointer += fmt::format("/{}", frames[i].object ? json_pointer_token(frames[i].key)
-                                                     : std::to_string(frames[i].index));
-    }
-    return pointer;
-  };
-  const auto element_done = [&] {
-    if (!frames.empty() && !frames.back().object) ++frames.back().index;
-  };
-  const auto callback = [&](int, Json::parse_event_t event, Json& parsed) {
-    switch (event) {
-      case Json::parse_event_t::object_start:
-        frames.push_back(Frame{.object = true});
-        break;
-      case Json::parse_event_t::array_start:
-        frames.push_back(Frame{.object = false});
-        break;
-      case Json::parse_event_t::object_end:
-      case Json::parse_event_t::array_end:
-        frames.pop_back();
-        element_done();
-        break;
-      case Json::parse_event_t::key: {
-        const std::string key = parsed.get<std::string>();
-        if (!frames.back().keys.insert(key).second) {
-          fail_at(name,
-                  fmt::format("{}/{}", pointer_to(frames.size() - 1), json_pointer_token(key)),
-                  fmt::format("key '{}' appears twice in one object", key));
-        }
-        frames.back().key = key;
-        break;
-      }
-      case Json::parse_event_t::value:
-        element_done();
-        break;
-    }
-    return true;
-  };
-  try {
-    return Json::parse(text, callback);
-  } catch (const Json::parse_error& e) {
-    throw InputError(
-        fmt::format("{}:{}: JSON syntax error: {}", name, line_and_column(text, e.byte), e.what()));
-  } catch (const Json::exception& e) {
-    // A number too large for a double (it would be infinite), say.
-    throw InputError(fmt::format("{}: JSON error: {}", name, e.what()));
-  }
-}
-
 // The numbers of a JSON array of estimates at `pointer`.
-std::vector<double> estimates_array(const std::string& name, const Json& array,
+std::vector<double> estimates_array(const JsonInput& in, const Json& array,
                                     const std::string& pointer) {
   if (!array.is_array()) {
-    fail_at(name, pointer, fmt::format("expected an array of numbers, found {}", kind_of(array)));
+    in.fail(pointer, fmt::format("expected an array of numbers, found {}", kind_of(array)));
   }
   std::vector<double> estimates;
   for (std::size_t i = 0; i < array.size(); ++i) {
     const Json& item = array[i];
     const std::string at = fmt::format("{}/{}", pointer, i);
     if (item.is_null()) {
-      fail_at(name, at,
+      in.fail(at,
               fmt::format("replicate {} is null: JSON has no NaN or infinity, so a null stands "
                           "for a non-finite estimate, and pcbench does not drop those; find out "
                           "why the renderer produced it",
                           i));
     }
     if (!item.is_number()) {
-      fail_at(name, at, fmt::format("expected a number, found {}", kind_of(item)));
+      in.fail(at, fmt::format("expected a number, found {}", kind_of(item)));
     }
     estimates.push_back(item.get<double>());
   }
-  if (estimates.size() < 2) fail_at(name, pointer, too_few(estimates.size()));
+  if (estimates.size() < 2) in.fail(pointer, too_few(estimates.size()));
   return estimates;
 }
 
@@ -417,36 +325,35 @@ std::string run_list(const ReportData& report) {
   return join_names(runs);
 }
 
-ReportData report_from_json(const std::string& name, const Json& root) {
+ReportData report_from_json(const JsonInput& in, const Json& root) {
   if (!root.is_object()) {
-    fail_at(name, "",
-            fmt::format("expected a pcbench report (an object), found {}", kind_of(root)));
+    in.fail("", fmt::format("expected a pcbench report (an object), found {}", kind_of(root)));
   }
   if (!root.contains("schema_version")) {
-    fail_at(name, "/schema_version", "missing; a pcbench report has \"schema_version\": 1");
+    in.fail("/schema_version", "missing; a pcbench report has \"schema_version\": 1");
   }
   const Json& version = root["schema_version"];
   if (!version.is_number_integer() || version.get<std::int64_t>() != 1) {
-    fail_at(name, "/schema_version",
+    in.fail("/schema_version",
             fmt::format("pcbench reads reports of schema_version 1; this one has {}",
                         excerpt(version.dump())));
   }
-  if (!root.contains("runs")) fail_at(name, "/runs", "missing; a pcbench report has \"runs\"");
+  if (!root.contains("runs")) in.fail("/runs", "missing; a pcbench report has \"runs\"");
   const Json& runs = root["runs"];
   if (!runs.is_array()) {
-    fail_at(name, "/runs", fmt::format("expected an array of runs, found {}", kind_of(runs)));
+    in.fail("/runs", fmt::format("expected an array of runs, found {}", kind_of(runs)));
   }
   ReportData report;
   std::map<std::string, std::size_t> index_of_id;
   const auto string_member = [&](const Json& object, const std::string& pointer, const char* key,
                                  bool required) -> std::string {
     if (!object.contains(key) || (!required && object[key].is_null())) {
-      if (required) fail_at(name, fmt::format("{}/{}", pointer, key), "missing");
+      if (required) in.fail(fmt::format("{}/{}", pointer, key), "missing");
       return "";
     }
     const Json& value = object[key];
     if (!value.is_string()) {
-      fail_at(name, fmt::format("{}/{}", pointer, key),
+      in.fail(fmt::format("{}/{}", pointer, key),
               fmt::format("expected a string, found {}", kind_of(value)));
     }
     return value.get<std::string>();
@@ -454,14 +361,13 @@ ReportData report_from_json(const std::string& name, const Json& root) {
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const Json& run = runs[i];
     const std::string at = fmt::format("/runs/{}", i);
-    if (!run.is_object())
-      fail_at(name, at, fmt::format("expected a run object, found {}", kind_of(run)));
+    if (!run.is_object()) in.fail(at, fmt::format("expected a run object, found {}", kind_of(run)));
     ReportRun out;
     out.id = string_member(run, at, "id", true);
-    if (out.id.empty()) fail_at(name, at + "/id", "empty run id");
+    if (out.id.empty()) in.fail(at + "/id", "empty run id");
     const auto [it, inserted] = index_of_id.emplace(out.id, i);
     if (!inserted) {
-      fail_at(name, at + "/id",
+      in.fail(at + "/id",
               fmt::format("run id '{}' appears twice (also /runs/{}/id)", out.id, it->second));
     }
     out.estimator = string_member(run, at, "estimator", false);
@@ -469,30 +375,29 @@ ReportData report_from_json(const std::string& name, const Json& root) {
     out.status = string_member(run, at, "status", true);
     constexpr const char* kStatuses[] = {"ok", "invalid", "error", "not_run"};
     if (std::find(std::begin(kStatuses), std::end(kStatuses), out.status) == std::end(kStatuses)) {
-      fail_at(name, at + "/status",
-              fmt::format("unknown status '{}'; valid: {}", excerpt(out.status),
-                          join_names(kStatuses)));
+      in.fail(at + "/status", fmt::format("unknown status '{}'; valid: {}", excerpt(out.status),
+                                          join_names(kStatuses)));
     }
     out.error = string_member(run, at, "error", false);
     if (out.status == "ok") {
       if (!run.contains("replicates") || !run["replicates"].is_array()) {
-        fail_at(name, at + "/replicates", "an ok run needs an array of replicates");
+        in.fail(at + "/replicates", "an ok run needs an array of replicates");
       }
       const Json& replicates = run["replicates"];
       for (std::size_t r = 0; r < replicates.size(); ++r) {
         const std::string rep_at = fmt::format("{}/replicates/{}", at, r);
         const Json& replicate = replicates[r];
         if (!replicate.is_object() || !replicate.contains("estimate")) {
-          fail_at(name, rep_at, "expected a replicate object with an \"estimate\"");
+          in.fail(rep_at, "expected a replicate object with an \"estimate\"");
         }
         const Json& estimate = replicate["estimate"];
         if (estimate.is_null()) {
-          fail_at(name, rep_at + "/estimate",
+          in.fail(rep_at + "/estimate",
                   "null (non-finite) in a run whose status is ok; pcbench marks a run with a "
                   "non-finite estimate invalid, so this report has been altered");
         }
         if (!estimate.is_number()) {
-          fail_at(name, rep_at + "/estimate",
+          in.fail(rep_at + "/estimate",
                   fmt::format("expected a number, found {}", kind_of(estimate)));
         }
         out.estimates.push_back(estimate.get<double>());
@@ -507,35 +412,34 @@ ReportData report_from_json(const std::string& name, const Json& root) {
   return report;
 }
 
-std::vector<double> estimates_of_report(const std::string& name, const ReportData& report,
+std::vector<double> estimates_of_report(const JsonInput& in, const ReportData& report,
                                         const std::optional<std::string>& run_id) {
   std::size_t index = 0;
   if (run_id) {
     const auto found = std::find_if(report.runs.begin(), report.runs.end(),
                                     [&](const ReportRun& run) { return run.id == *run_id; });
     if (found == report.runs.end()) {
-      fail_at(name, "/runs",
-              report.runs.empty()
-                  ? fmt::format("no run with id '{}': the report has no runs", *run_id)
-                  : fmt::format("no run with id '{}'; the report's runs: {}", *run_id,
-                                run_list(report)));
+      in.fail("/runs", report.runs.empty()
+                           ? fmt::format("no run with id '{}': the report has no runs", *run_id)
+                           : fmt::format("no run with id '{}'; the report's runs: {}", *run_id,
+                                         run_list(report)));
     }
     index = static_cast<std::size_t>(found - report.runs.begin());
   } else if (report.runs.size() != 1) {
-    fail_at(name, "/runs",
-            report.runs.empty() ? std::string("the report has no runs")
-                                : fmt::format("the report has {} runs; pick one by its id: {}",
-                                              report.runs.size(), run_list(report)));
+    in.fail("/runs", report.runs.empty()
+                         ? std::string("the report has no runs")
+                         : fmt::format("the report has {} runs; pick one by its id: {}",
+                                       report.runs.size(), run_list(report)));
   }
   const ReportRun& run = report.runs[index];
   const std::string at = fmt::format("/runs/{}", index);
   if (run.status != "ok") {
-    fail_at(name, at + "/status",
+    in.fail(at + "/status",
             fmt::format("run {} has status {}{}; only an ok run's estimates can be tested",
                         describe(run), run.status,
                         run.error.empty() ? "" : fmt::format(": {}", run.error)));
   }
-  if (run.estimates.size() < 2) fail_at(name, at + "/replicates", too_few(run.estimates.size()));
+  if (run.estimates.size() < 2) in.fail(at + "/replicates", too_few(run.estimates.size()));
   return run.estimates;
 }
 
@@ -554,7 +458,7 @@ std::vector<double> read_estimates(const std::filesystem::path& file,
                           : fmt::format("unknown extension '{}'", file.extension().string()),
         join_names(kEstimatesExtensions)));
   }
-  const std::string text = read_file(file);
+  const std::string text = read_text_file(file, "the file of estimates");
   if (extension != ".json") {
     if (run_id) {
       throw InputError(
@@ -570,7 +474,8 @@ std::vector<double> read_estimates(const std::filesystem::path& file,
                     "object with key \"estimates\", or a pcbench report",
                     name));
   }
-  const Json root = parse_json(name, text);
+  const JsonInput in(name);
+  const Json root = in.parse(text);
   const bool is_report = root.is_object() && root.contains("runs");
   if (run_id && !is_report) {
     throw InputError(
@@ -578,15 +483,15 @@ std::vector<double> read_estimates(const std::filesystem::path& file,
                     "file is not one (it has no \"runs\")",
                     name, *run_id));
   }
-  if (root.is_array()) return estimates_array(name, root, "");
+  if (root.is_array()) return estimates_array(in, root, "");
   if (root.is_object() && is_report) {
     if (root.contains("estimates")) {
-      fail_at(name, "", "has both \"runs\" (a pcbench report) and \"estimates\"; keep one");
+      in.fail("", "has both \"runs\" (a pcbench report) and \"estimates\"; keep one");
     }
-    return estimates_of_report(name, report_from_json(name, root), run_id);
+    return estimates_of_report(in, report_from_json(in, root), run_id);
   }
   if (root.is_object() && root.contains("estimates")) {
-    return estimates_array(name, root["estimates"], "/estimates");
+    return estimates_array(in, root["estimates"], "/estimates");
   }
   std::string found = kind_of(root);
   if (root.is_object()) {
@@ -596,19 +501,19 @@ std::vector<double> read_estimates(const std::filesystem::path& file,
     found =
         keys.empty() ? "an empty object" : fmt::format("an object with keys {}", join_names(keys));
   }
-  fail_at(name, "",
-          fmt::format("expected an array of numbers, an object with key \"estimates\", or a "
-                      "pcbench report (an object with \"runs\"); found {}",
-                      found));
+  in.fail("", fmt::format("expected an array of numbers, an object with key \"estimates\", or a "
+                          "pcbench report (an object with \"runs\"); found {}",
+                          found));
 }
 
 ReportData read_report(const std::filesystem::path& file) {
   const std::string name = file.string();
-  const std::string text = read_file(file);
+  const std::string text = read_text_file(file, "the report");
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
     throw InputError(fmt::format("{}:1:1: the file is empty; expected a pcbench report", name));
   }
-  return report_from_json(name, parse_json(name, text));
+  const JsonInput in(name);
+  return report_from_json(in, in.parse(text));
 }
 
 ReferenceValue parse_reference(std::string_view text) {

@@ -4,13 +4,12 @@
 
 #include <algorithm>
 #include <exception>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <ostream>
-#include <sstream>
 
 #include "base/atomic_file.h"
 #include "base/errors.h"
+#include "base/text_file.h"
 
 namespace pcbench {
 namespace {
@@ -22,14 +21,6 @@ constexpr int kManifestVersion = 1;
 
 fs::path manifest_path(const fs::path& directory) {
   return directory / "session.json";
-}
-
-std::string read_file(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot be opened");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 // A saved run's file name: its 16-hex-digit id and ".json" (temporary files end otherwise).
@@ -67,9 +58,10 @@ void check_same_runs(const nlohmann::json& saved, const std::vector<RunPlan>& pl
 }
 
 SavedRun read_checked(const fs::path& file, std::uint64_t seed, const std::vector<RunPlan>& plans) {
+  const std::string text = read_text_file(file, "the saved run");
   SavedRun run;
   try {
-    run = read_saved_run(read_file(file));
+    run = read_saved_run(text);
   } catch (const std::exception& e) {
     throw InputError(
         fmt::format("{}: not a saved run this pcbench can read: {}", file.string(), e.what()));
@@ -154,9 +146,10 @@ RunStore RunStore::resume(const fs::path& folder, std::uint64_t seed,
         "removes its checkpoints); run without --resume",
         manifest.string(), folder.string()));
   }
+  const std::string text = read_text_file(manifest, "the session manifest");
   nlohmann::json session;
   try {
-    session = nlohmann::json::parse(read_file(manifest));
+    session = nlohmann::json::parse(text);
     if (session.at("format") != kManifestFormat || session.at("version") != kManifestVersion) {
       throw std::runtime_error(
           fmt::format("expected format {} version {}", kManifestFormat, kManifestVersion));

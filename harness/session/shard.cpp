@@ -5,14 +5,13 @@
 
 #include <algorithm>
 #include <charconv>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <ostream>
-#include <sstream>
 
 #include "base/atomic_file.h"
 #include "base/errors.h"
+#include "base/text_file.h"
 #include "harness/run/run_store.h"
 #include "harness/session/report.h"
 
@@ -56,14 +55,15 @@ struct ShardRecord {
 
 ShardRecord read_shard(const fs::path& folder) {
   const fs::path file = shard_file(folder);
-  std::ifstream in(file);
-  if (!in) {
+  std::error_code error;
+  if (!fs::exists(file, error)) {
     throw InputError(
         fmt::format("{}: not found: '{}' is not the --out folder of a finished `--shard i/n` run",
                     file.string(), folder.string()));
   }
+  const std::string text = read_text_file(file, "the shard record");
   try {
-    const nlohmann::json j = nlohmann::json::parse(in);
+    const nlohmann::json j = nlohmann::json::parse(text);
     if (j.at("format") != kShardFormat || j.at("version") != kShardVersion) {
       throw std::runtime_error(
           fmt::format("expected format {} version {}", kShardFormat, kShardVersion));

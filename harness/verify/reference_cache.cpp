@@ -3,10 +3,9 @@
 #include <fmt/format.h>
 
 #include <exception>
-#include <fstream>
-#include <sstream>
 
 #include "base/atomic_file.h"
+#include "base/text_file.h"
 #include "base/text_hash.h"
 #include "harness/verify/image_statistics.h"
 #include "results/exr_file.h"
@@ -75,9 +74,9 @@ std::optional<ReferenceImage> ReferenceCache::find(const scene::SceneDescription
   const fs::path json_file = fs::path(image_file).replace_extension(".json");
   if (!fs::exists(json_file) || !fs::exists(image_file)) return std::nullopt;
   try {
-    std::ifstream in(json_file);
     ReferenceImage out;
-    out.provenance = nlohmann::ordered_json::parse(in);
+    out.provenance =
+        nlohmann::ordered_json::parse(read_text_file(json_file, "the reference's provenance"));
     const nlohmann::ordered_json& meta = out.provenance;
     if (meta.value("format", "") != kFormat || meta.value("key", "") != reference_key(scene)) {
       throw std::runtime_error("its format or key is not this scene's");

@@ -6,23 +6,20 @@
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <map>
-#include <nlohmann/json.hpp>
-#include <optional>
-#include <set>
-#include <sstream>
 #include <utility>
 
 #include "base/errors.h"
+#include "base/json_input.h"
 #include "base/nearest_name.h"
+#include "base/text_file.h"
 #include "integrands/scenes/scene_obj.h"
 
 namespace pcbench::scene {
 namespace {
 
-using Json = nlohmann::json;
+using Json = JsonInput::Json;
 
 constexpr std::uint64_t kMaxResolution = 8192;
 constexpr std::uint64_t kMaxPathLength = 64;
@@ -40,95 +37,28 @@ const std::vector<std::string> kShapeTypes = {"quad", "triangle", "box", "mesh",
 const std::vector<std::string> kBoxNormals = {"outward", "inward"};
 const std::vector<std::string> kLightKeys = {"position", "intensity"};
 
-// Where the parser is while it reads the document, so that a repeated key can be reported by
-// its JSON pointer (nlohmann-json's callbacks give no byte offset).
-class PointerTracker {
- public:
-  // Returns the pointer of a key that repeats in its object, or nothing.
-  std::optional<std::string> on_event(Json::parse_event_t event, const Json& parsed) {
-    using Event = Json::parse_event_t;
-    switch (event) {
-      case Event::object_start:
-      case Event::array_start:
-        frames_.push_back({event == Event::array_start, 0, "", {}});
-        break;
-      case Event::key:
-        frames_.back().key = parsed.get<std::string>();
-        if (!frames_.back().keys.insert(frames_.back().key).second) return pointer();
-        break;
-      case Event::object_end:
-      case Event::array_end:
-        frames_.pop_back();
-        element_done();
-        break;
-      case Event::value:
-        element_done();
-        break;
-    }
-    return std::nullopt;
-  }
-
- private:
-  struct Frame {
-    bool array;
-    std::size_t index;
-    std::string key;
-    std::set<std::string> keys;
-  };
-
-  void element_done() {
-    if (!frames_.empty() && frames_.back().array) ++frames_.back().index;
-  }
-
-  std::string pointer() const {
-    std::string out;
-    for (const Frame& frame : frames_) {
-      out += '/';
-      out += frame.array ? std::to_string(frame.index) : json_pointer_token(frame.key);
-    }
-    return out;
-  }
-
-  std::vector<Frame> frames_;
-};
-
-std::string read_text(const std::filesystem::path& path) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
-    throw InputError(
-        fmt::format("{}: the scene file does not exist or is not a file", path.string()));
-  }
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  if (in) text << in.rdbuf();
-  if (!in || in.bad()) {
-    throw InputError(fmt::format("{}: cannot read the scene file", path.string()));
-  }
-  return text.str();
-}
-
 class SceneParser {
  public:
   SceneParser(std::string file, std::filesystem::path base_dir)
-      : file_(std::move(file)), base_dir_(std::move(base_dir)) {}
+      : in_(std::move(file)), base_dir_(std::move(base_dir)) {}
 
   SceneDescription parse(std::string_view text) {
-    const Json root = parse_json(text);
-    require_object(root, "");
-    check_keys(root, "", kTopKeys);
+    const Json root = in_.parse(text);
+    in_.require_object(root, "");
+    in_.check_keys(root, "", kTopKeys);
     SceneDescription scene;
-    scene.source = file_;
-    scene.name = root.contains("name") ? string_at(root["name"], "/name")
-                                       : std::filesystem::path(file_).stem().string();
-    if (root.contains("description")) string_at(root["description"], "/description");
-    scene.camera = camera(required(root, "", "camera"), "/camera");
+    scene.source = in_.source();
+    scene.name = root.contains("name") ? in_.string_at(root["name"], "/name")
+                                       : std::filesystem::path(in_.source()).stem().string();
+    if (root.contains("description")) in_.string_at(root["description"], "/description");
+    scene.camera = camera(in_.required(root, "", "camera"), "/camera");
     if (root.contains("resolution")) resolution(root["resolution"], scene);
     if (root.contains("max_length")) {
       scene.max_length = static_cast<std::uint32_t>(
-          integer_at(root["max_length"], "/max_length", 1, kMaxPathLength));
+          in_.integer_at(root["max_length"], "/max_length", 1, kMaxPathLength));
     }
     if (root.contains("materials")) materials(root["materials"], scene);
-    if (!root.contains("shapes")) fail("", "the scene has no \"shapes\"");
+    if (!root.contains("shapes")) in_.fail("", "the scene has no \"shapes\"");
     shapes(root["shapes"], scene);
     if (root.contains("point_lights")) point_lights(root["point_lights"], scene);
     check_degenerate(scene);
@@ -142,89 +72,14 @@ class SceneParser {
     std::size_t first = 0, count = 0;
   };
 
-  Json parse_json(std::string_view text) const {
-    PointerTracker tracker;
-    // JSON lets a key repeat and the last value silently win; refuse it.
-    const auto refuse_duplicates = [&](int, Json::parse_event_t event, Json& parsed) {
-      if (const auto repeated = tracker.on_event(event, parsed)) {
-        fail(*repeated, "key appears twice in one object");
-      }
-      return true;
-    };
-    try {
-      return Json::parse(text, refuse_duplicates);
-    } catch (const Json::parse_error& e) {
-      throw InputError(fmt::format("{}:{}: JSON syntax error: {}", file_,
-                                   line_and_column(text, e.byte), e.what()));
-    } catch (const Json::out_of_range& e) {
-      // A number too large for a double ("1e999").
-      throw InputError(json_number_error(text, file_, e.what()));
-    }
-  }
-
-  [[noreturn]] void fail(const std::string& pointer, const std::string& why) const {
-    throw InputError(fmt::format("{}: {}: {}", file_, pointer.empty() ? "/" : pointer, why));
-  }
-
-  void require_object(const Json& value, const std::string& pointer) const {
-    if (!value.is_object()) fail(pointer, "must be an object");
-  }
-
-  void check_keys(const Json& object, const std::string& pointer,
-                  const std::vector<std::string>& valid) const {
-    for (const auto& item : object.items()) {
-      if (std::find(valid.begin(), valid.end(), item.key()) == valid.end()) {
-        fail(pointer + "/" + json_pointer_token(item.key()),
-             fmt::format("unknown key '{}'; valid keys: {}{}", item.key(), join_names(valid),
-                         did_you_mean(item.key(), valid)));
-      }
-    }
-  }
-
-  const Json& required(const Json& object, const std::string& pointer, const char* key) const {
-    if (!object.contains(key)) fail(pointer, fmt::format("missing \"{}\"", key));
-    return object[key];
-  }
-
-  std::string string_at(const Json& value, const std::string& pointer) const {
-    if (!value.is_string()) fail(pointer, "must be a string");
-    return value.get<std::string>();
-  }
-
-  // One of `choices`, named `what` in the message.
-  std::string choice_at(const Json& value, const std::string& pointer, const char* what,
-                        const std::vector<std::string>& choices) const {
-    const std::string name = string_at(value, pointer);
-    if (std::find(choices.begin(), choices.end(), name) == choices.end()) {
-      fail(pointer, fmt::format("unknown {} '{}'; valid: {}{}", what, name, join_names(choices),
-                                did_you_mean(name, choices)));
-    }
-    return name;
-  }
-
-  double number_at(const Json& value, const std::string& pointer) const {
-    if (!value.is_number() || !std::isfinite(value.get<double>())) {
-      fail(pointer, "must be a finite number");
-    }
-    return value.get<double>();
-  }
-
-  std::uint64_t integer_at(const Json& value, const std::string& pointer, std::uint64_t min,
-                           std::uint64_t max) const {
-    if (!value.is_number_unsigned() || value.get<std::uint64_t>() < min ||
-        value.get<std::uint64_t>() > max) {
-      fail(pointer, fmt::format("must be an integer in [{}, {}], not {}", min, max, value.dump()));
-    }
-    return value.get<std::uint64_t>();
-  }
-
   std::array<double, 3> triple_at(const Json& value, const std::string& pointer) const {
     if (!value.is_array() || value.size() != 3) {
-      fail(pointer, fmt::format("must be an array of 3 finite numbers, not {}", excerpt(value)));
+      in_.fail(pointer, fmt::format("must be an array of 3 finite numbers, not {}",
+                                    JsonInput::excerpt(value)));
     }
     std::array<double, 3> out{};
     for (std::size_t i = 0; i < 3; ++i)
-      out[i] = number_at(value[i], fmt::format("{}/{}", pointer, i));
+      out[i] = in_.number_at(value[i], fmt::format("{}/{}", pointer, i));
     return out;
   }
 
@@ -239,39 +94,35 @@ class SceneParser {
     for (std::size_t i = 0; i < 3; ++i) {
       const double channel = rgb[i];
       if (channel < 0.0 || channel > max) {
-        fail(fmt::format("{}/{}", pointer, i),
-             std::isinf(max) ? fmt::format("{} is negative", channel)
-                             : fmt::format("{} is outside [0, {}]", channel, max));
+        in_.fail(fmt::format("{}/{}", pointer, i),
+                 std::isinf(max) ? fmt::format("{} is negative", channel)
+                                 : fmt::format("{} is outside [0, {}]", channel, max));
       }
     }
     return {rgb[0], rgb[1], rgb[2]};
   }
 
-  static std::string excerpt(const Json& value) {
-    std::string text = value.dump();
-    return text.size() > 40 ? text.substr(0, 37) + "..." : text;
-  }
-
   Camera camera(const Json& value, const std::string& pointer) const {
-    require_object(value, pointer);
-    check_keys(value, pointer, kCameraKeys);
+    in_.require_object(value, pointer);
+    in_.check_keys(value, pointer, kCameraKeys);
     Camera camera;
-    camera.position = vec3_at(required(value, pointer, "position"), pointer + "/position");
-    camera.look_at = vec3_at(required(value, pointer, "look_at"), pointer + "/look_at");
+    camera.position = vec3_at(in_.required(value, pointer, "position"), pointer + "/position");
+    camera.look_at = vec3_at(in_.required(value, pointer, "look_at"), pointer + "/look_at");
     if (value.contains("up")) camera.up = vec3_at(value["up"], pointer + "/up");
     if (value.contains("fov")) {
-      camera.fov_degrees = number_at(value["fov"], pointer + "/fov");
+      camera.fov_degrees = in_.number_at(value["fov"], pointer + "/fov");
       if (!(camera.fov_degrees > 0.0 && camera.fov_degrees < 180.0)) {
-        fail(pointer + "/fov", fmt::format("{} degrees is outside (0, 180)", camera.fov_degrees));
+        in_.fail(pointer + "/fov",
+                 fmt::format("{} degrees is outside (0, 180)", camera.fov_degrees));
       }
     }
     const Vec3 view = camera.look_at - camera.position;
     if (!(length(view) > 0.0)) {
-      fail(pointer + "/look_at", "equals \"position\", so the camera has no view direction");
+      in_.fail(pointer + "/look_at", "equals \"position\", so the camera has no view direction");
     }
-    if (!(length(camera.up) > 0.0)) fail(pointer + "/up", "must not be the zero vector");
+    if (!(length(camera.up) > 0.0)) in_.fail(pointer + "/up", "must not be the zero vector");
     if (!(length(cross(normalize(view), normalize(camera.up))) > kMinUpSine)) {
-      fail(pointer + "/up", "is parallel to the view direction (look_at - position)");
+      in_.fail(pointer + "/up", "is parallel to the view direction (look_at - position)");
     }
     return camera;
   }
@@ -281,13 +132,13 @@ class SceneParser {
     const std::string pointer = "/resolution";
     const std::string why =
         fmt::format("must be an integer or \"WxH\" with W and H in [1, {}], not {}", kMaxResolution,
-                    excerpt(value));
+                    JsonInput::excerpt(value));
     if (value.is_number()) {
       scene.width = scene.height =
-          static_cast<std::uint32_t>(integer_at(value, pointer, 1, kMaxResolution));
+          static_cast<std::uint32_t>(in_.integer_at(value, pointer, 1, kMaxResolution));
       return;
     }
-    if (!value.is_string()) fail(pointer, why);
+    if (!value.is_string()) in_.fail(pointer, why);
     const std::string text = value.get<std::string>();
     const std::size_t x = text.find('x');
     const auto side = [&](std::string_view digits) {
@@ -295,82 +146,84 @@ class SceneParser {
       const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), n);
       if (digits.empty() || error != std::errc() || end != digits.data() + digits.size() || n < 1 ||
           n > kMaxResolution) {
-        fail(pointer, why);
+        in_.fail(pointer, why);
       }
       return static_cast<std::uint32_t>(n);
     };
-    if (x == std::string::npos) fail(pointer, why);
+    if (x == std::string::npos) in_.fail(pointer, why);
     scene.width = side(std::string_view(text).substr(0, x));
     scene.height = side(std::string_view(text).substr(x + 1));
   }
 
   void materials(const Json& value, SceneDescription& scene) {
-    require_object(value, "/materials");
+    in_.require_object(value, "/materials");
     for (const auto& item : value.items()) {
-      const std::string pointer = "/materials/" + json_pointer_token(item.key());
+      const std::string pointer = JsonInput::member("/materials", item.key());
       const Json& spec = item.value();
-      require_object(spec, pointer);
-      const std::string type = choice_at(required(spec, pointer, "type"), pointer + "/type",
-                                         "material type", kMaterialTypes);
+      in_.require_object(spec, pointer);
+      const std::string type = in_.choice_at(in_.required(spec, pointer, "type"), pointer + "/type",
+                                             "material type", kMaterialTypes);
       Material material;
       material.name = item.key();
       material.kind = type == "diffuse" ? MaterialKind::kDiffuse
                       : type == "phong" ? MaterialKind::kPhong
                                         : MaterialKind::kMirror;
       if (material.kind == MaterialKind::kPhong) {
-        check_keys(spec, pointer, {"type", "albedo", "exponent"});
-        material.exponent = number_at(required(spec, pointer, "exponent"), pointer + "/exponent");
-        if (!(material.exponent > 0.0)) fail(pointer + "/exponent", "must be > 0");
+        in_.check_keys(spec, pointer, {"type", "albedo", "exponent"});
+        material.exponent =
+            in_.number_at(in_.required(spec, pointer, "exponent"), pointer + "/exponent");
+        if (!(material.exponent > 0.0)) in_.fail(pointer + "/exponent", "must be > 0");
       } else {
-        check_keys(spec, pointer, {"type", "albedo"});
+        in_.check_keys(spec, pointer, {"type", "albedo"});
       }
-      material.albedo = rgb_at(required(spec, pointer, "albedo"), pointer + "/albedo", 1.0);
+      material.albedo = rgb_at(in_.required(spec, pointer, "albedo"), pointer + "/albedo", 1.0);
       material_index_[material.name] = static_cast<std::uint32_t>(scene.materials.size());
       scene.materials.push_back(material);
     }
   }
 
   std::uint32_t material_at(const Json& value, const std::string& pointer) const {
-    const std::string name = string_at(value, pointer);
+    const std::string name = in_.string_at(value, pointer);
     const auto found = material_index_.find(name);
     if (found != material_index_.end()) return found->second;
     std::vector<std::string> defined;
     for (const auto& [known, index] : material_index_) defined.push_back(known);
     if (defined.empty()) {
-      fail(pointer, fmt::format("unknown material '{}'; no materials are defined (add them "
-                                "under \"materials\")",
-                                name));
+      in_.fail(pointer, fmt::format("unknown material '{}'; no materials are defined (add them "
+                                    "under \"materials\")",
+                                    name));
     }
-    fail(pointer, fmt::format("unknown material '{}'; defined materials: {}{}", name,
-                              join_names(defined), did_you_mean(name, defined)));
+    in_.fail(pointer, fmt::format("unknown material '{}'; defined materials: {}{}", name,
+                                  join_names(defined), did_you_mean(name, defined)));
   }
 
   void shapes(const Json& value, SceneDescription& scene) {
-    if (!value.is_array()) fail("/shapes", "must be an array");
-    if (value.empty()) fail("/shapes", "the scene has no shapes");
+    in_.require_array(value, "/shapes");
+    if (value.empty()) in_.fail("/shapes", "the scene has no shapes");
     for (std::size_t i = 0; i < value.size(); ++i) {
       const std::string pointer = fmt::format("/shapes/{}", i);
       const Json& spec = value[i];
-      require_object(spec, pointer);
-      const std::string type =
-          choice_at(required(spec, pointer, "type"), pointer + "/type", "shape type", kShapeTypes);
+      in_.require_object(spec, pointer);
+      const std::string type = in_.choice_at(in_.required(spec, pointer, "type"), pointer + "/type",
+                                             "shape type", kShapeTypes);
       std::vector<TriangleCorners> corners;
       if (type == "quad" || type == "triangle") {
-        check_keys(spec, pointer, {"type", "corners", "material", "emission"});
-        corners = polygon(required(spec, pointer, "corners"), pointer + "/corners",
+        in_.check_keys(spec, pointer, {"type", "corners", "material", "emission"});
+        corners = polygon(in_.required(spec, pointer, "corners"), pointer + "/corners",
                           type == "quad" ? 4 : 3);
       } else if (type == "box") {
-        check_keys(spec, pointer, {"type", "min", "max", "material", "normals", "emission"});
+        in_.check_keys(spec, pointer, {"type", "min", "max", "material", "normals", "emission"});
         corners = box(spec, pointer);
       } else if (type == "mesh") {
-        check_keys(spec, pointer, {"type", "positions", "indices", "material", "emission"});
+        in_.check_keys(spec, pointer, {"type", "positions", "indices", "material", "emission"});
         corners = mesh(spec, pointer);
       } else {
-        check_keys(spec, pointer, {"type", "file", "material", "emission", "scale", "translate"});
+        in_.check_keys(spec, pointer,
+                       {"type", "file", "material", "emission", "scale", "translate"});
         corners = obj(spec, pointer);
       }
       const std::uint32_t material =
-          material_at(required(spec, pointer, "material"), pointer + "/material");
+          material_at(in_.required(spec, pointer, "material"), pointer + "/material");
       const Rgb emission = spec.contains("emission")
                                ? rgb_at(spec["emission"], pointer + "/emission",
                                         std::numeric_limits<double>::infinity())
@@ -386,7 +239,7 @@ class SceneParser {
   std::vector<TriangleCorners> polygon(const Json& value, const std::string& pointer,
                                        std::size_t count) const {
     if (!value.is_array() || value.size() != count) {
-      fail(pointer, fmt::format("must be an array of {} points", count));
+      in_.fail(pointer, fmt::format("must be an array of {} points", count));
     }
     std::vector<Vec3> p;
     for (std::size_t i = 0; i < count; ++i) {
@@ -397,14 +250,14 @@ class SceneParser {
   }
 
   std::vector<TriangleCorners> box(const Json& spec, const std::string& pointer) const {
-    const Vec3 lo = vec3_at(required(spec, pointer, "min"), pointer + "/min");
-    const Vec3 hi = vec3_at(required(spec, pointer, "max"), pointer + "/max");
+    const Vec3 lo = vec3_at(in_.required(spec, pointer, "min"), pointer + "/min");
+    const Vec3 hi = vec3_at(in_.required(spec, pointer, "max"), pointer + "/max");
     if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) {
-      fail(pointer, "\"min\" must be below \"max\" in every coordinate");
+      in_.fail(pointer, "\"min\" must be below \"max\" in every coordinate");
     }
     const bool inward =
-        spec.contains("normals") && choice_at(spec["normals"], pointer + "/normals",
-                                              "normals direction", kBoxNormals) == "inward";
+        spec.contains("normals") && in_.choice_at(spec["normals"], pointer + "/normals",
+                                                  "normals direction", kBoxNormals) == "inward";
     // Corner c of the box: bit 0 picks x from hi, bit 1 y, bit 2 z. Each face lists its
     // corners counter-clockwise seen from outside, so cross(p1 - p0, p2 - p0) points out.
     const auto corner = [&](int c) {
@@ -425,11 +278,11 @@ class SceneParser {
   }
 
   std::vector<TriangleCorners> mesh(const Json& spec, const std::string& pointer) const {
-    const Json& positions = required(spec, pointer, "positions");
-    const Json& indices = required(spec, pointer, "indices");
-    if (!positions.is_array()) fail(pointer + "/positions", "must be an array of points");
+    const Json& positions = in_.required(spec, pointer, "positions");
+    const Json& indices = in_.required(spec, pointer, "indices");
+    if (!positions.is_array()) in_.fail(pointer + "/positions", "must be an array of points");
     if (!indices.is_array() || indices.empty()) {
-      fail(pointer + "/indices", "must be a non-empty array of [i, j, k] triangles");
+      in_.fail(pointer + "/indices", "must be a non-empty array of [i, j, k] triangles");
     }
     std::vector<Vec3> p;
     for (std::size_t i = 0; i < positions.size(); ++i) {
@@ -439,15 +292,16 @@ class SceneParser {
     for (std::size_t t = 0; t < indices.size(); ++t) {
       const std::string where = fmt::format("{}/indices/{}", pointer, t);
       if (!indices[t].is_array() || indices[t].size() != 3) {
-        fail(where, "must be an array of 3 vertex indices");
+        in_.fail(where, "must be an array of 3 vertex indices");
       }
       TriangleCorners triangle;
       for (std::size_t k = 0; k < 3; ++k) {
         const Json& index = indices[t][k];
         if (!index.is_number_unsigned() || index.get<std::uint64_t>() >= p.size()) {
-          fail(fmt::format("{}/{}", where, k),
-               fmt::format("index {} is out of range: \"positions\" has {} points (0 to {})",
-                           excerpt(index), p.size(), p.size() == 0 ? 0 : p.size() - 1));
+          in_.fail(
+              fmt::format("{}/{}", where, k),
+              fmt::format("index {} is out of range: \"positions\" has {} points (0 to {})",
+                          JsonInput::excerpt(index), p.size(), p.size() == 0 ? 0 : p.size() - 1));
         }
         triangle[k] = p[index.get<std::uint64_t>()];
       }
@@ -457,38 +311,38 @@ class SceneParser {
   }
 
   std::vector<TriangleCorners> obj(const Json& spec, const std::string& pointer) const {
-    const std::string file = string_at(required(spec, pointer, "file"), pointer + "/file");
+    const std::string file = in_.string_at(in_.required(spec, pointer, "file"), pointer + "/file");
     double scale = 1.0;
     if (spec.contains("scale")) {
-      scale = number_at(spec["scale"], pointer + "/scale");
+      scale = in_.number_at(spec["scale"], pointer + "/scale");
       // A negative scale would mirror the mesh and turn its emitting side inside out.
-      if (!(scale > 0.0)) fail(pointer + "/scale", "must be > 0");
+      if (!(scale > 0.0)) in_.fail(pointer + "/scale", "must be > 0");
     }
     const Vec3 translate =
         spec.contains("translate") ? vec3_at(spec["translate"], pointer + "/translate") : Vec3{};
     // operator/ keeps an absolute `file` as it is.
     std::vector<TriangleCorners> out =
-        load_obj_triangles(base_dir_ / file, fmt::format("{}: {}/file", file_, pointer));
+        load_obj_triangles(base_dir_ / file, fmt::format("{}: {}/file", in_.source(), pointer));
     for (TriangleCorners& triangle : out) {
       for (Vec3& p : triangle) {
         p = scale * p + translate;
         if (!is_finite(p))
-          fail(pointer + "/file",
-               fmt::format("OBJ file '{}' has a vertex that is not finite", file));
+          in_.fail(pointer + "/file",
+                   fmt::format("OBJ file '{}' has a vertex that is not finite", file));
       }
     }
     return out;
   }
 
   void point_lights(const Json& value, SceneDescription& scene) const {
-    if (!value.is_array()) fail("/point_lights", "must be an array");
+    in_.require_array(value, "/point_lights");
     for (std::size_t i = 0; i < value.size(); ++i) {
       const std::string pointer = fmt::format("/point_lights/{}", i);
-      require_object(value[i], pointer);
-      check_keys(value[i], pointer, kLightKeys);
+      in_.require_object(value[i], pointer);
+      in_.check_keys(value[i], pointer, kLightKeys);
       PointLight light;
-      light.position = vec3_at(required(value[i], pointer, "position"), pointer + "/position");
-      light.intensity = rgb_at(required(value[i], pointer, "intensity"), pointer + "/intensity",
+      light.position = vec3_at(in_.required(value[i], pointer, "position"), pointer + "/position");
+      light.intensity = rgb_at(in_.required(value[i], pointer, "intensity"), pointer + "/intensity",
                                std::numeric_limits<double>::infinity());
       scene.point_lights.push_back(light);
     }
@@ -508,10 +362,10 @@ class SceneParser {
         const Triangle& t = scene.triangles[ranges_[shape].first + k];
         const double area = 0.5 * length(cross(t.p1 - t.p0, t.p2 - t.p0));
         if (!(area > min_area)) {
-          fail(fmt::format("/shapes/{}", shape),
-               fmt::format("triangle {} is degenerate: its area {:.3g} is not above {:g} times "
-                           "the squared diagonal of the scene's bounding box",
-                           k, area, kDegenerateAreaFraction));
+          in_.fail(fmt::format("/shapes/{}", shape),
+                   fmt::format("triangle {} is degenerate: its area {:.3g} is not above {:g} times "
+                               "the squared diagonal of the scene's bounding box",
+                               k, area, kDegenerateAreaFraction));
         }
       }
     }
@@ -524,12 +378,12 @@ class SceneParser {
     for (const PointLight& light : scene.point_lights) {
       if (!light.intensity.is_black()) return;
     }
-    fail("",
-         "the scene emits no light: give a shape a non-zero \"emission\" or add a point "
-         "light with a non-zero \"intensity\"");
+    in_.fail("",
+             "the scene emits no light: give a shape a non-zero \"emission\" or add a point "
+             "light with a non-zero \"intensity\"");
   }
 
-  std::string file_;
+  JsonInput in_;
   std::filesystem::path base_dir_;
   std::map<std::string, std::uint32_t> material_index_;
   std::vector<ShapeRange> ranges_;
@@ -543,7 +397,8 @@ SceneDescription parse_scene_json(std::string_view text, const std::string& sour
 }
 
 SceneDescription read_scene_file(const std::filesystem::path& path) {
-  return parse_scene_json(read_text(path), path.string(), path.parent_path());
+  return parse_scene_json(read_text_file(path, "the scene file"), path.string(),
+                          path.parent_path());
 }
 
 }  // namespace pcbench::scene

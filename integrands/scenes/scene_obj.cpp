@@ -3,10 +3,10 @@
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
 
-#include <fstream>
-#include <sstream>
+#include <string>
 
 #include "base/errors.h"
+#include "base/text_file.h"
 
 namespace pcbench::scene {
 namespace {
@@ -63,20 +63,15 @@ void check_indices(const tinyobj::ObjReader& reader, const std::string& where,
 std::vector<TriangleCorners> load_obj_triangles(const std::filesystem::path& path,
                                                 const std::string& where) {
   const std::string shown_path = path.string();
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
-    throw InputError(
-        fmt::format("{}: OBJ file '{}' does not exist or is not a file", where, shown_path));
+  std::string text;
+  try {
+    text = read_text_file(path, "the OBJ file");
+  } catch (const InputError& e) {
+    // Also name the scene key that refers to the file.
+    throw InputError(fmt::format("{}: {}", where, e.what()));
   }
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  if (in) text << in.rdbuf();
-  if (!in || in.bad()) {
-    throw InputError(fmt::format("{}: OBJ file '{}' cannot be read", where, shown_path));
-  }
-
-  check_indices(parse_obj(text.str(), false, where, shown_path), where, shown_path);
-  const tinyobj::ObjReader reader = parse_obj(text.str(), true, where, shown_path);
+  check_indices(parse_obj(text, false, where, shown_path), where, shown_path);
+  const tinyobj::ObjReader reader = parse_obj(text, true, where, shown_path);
   const std::vector<tinyobj::real_t>& v = reader.GetAttrib().vertices;
   const auto vertex = [&](const tinyobj::index_t& index) {
     const auto i = static_cast<std::size_t>(index.vertex_index) * 3;
