@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "tests/test_support.h"
@@ -359,6 +360,21 @@ TEST_F(CliInFolder, CommandLineBudgetOverridesTheSuite) {
   EXPECT_EQ(report["runs"][0]["samples"], 1000);
   EXPECT_EQ(report["runs"][0]["replicates"].size(), 3u);
   EXPECT_EQ(report["context"]["seed"], 7);  // from the suite: --seed was not given
+}
+
+TEST_F(CliInFolder, CommandLineParamOverridesEveryRowOfTheSuite) {
+  std::ofstream("suite.json") << R"({"defaults": {"samples": 1000, "replicates": 2},
+    "grid": [{"estimator": ["plain"], "integrand": ["genz-gaussian"], "params": {"light_dims": ["2"]}},
+             {"estimator": ["plain"], "integrand": ["genz-oscillatory"]}]})";
+  ASSERT_EQ(cli({"run", "suite.json", "-p", "light_dims=3,4", "--out", "out", "-q"}).status, 0);
+  const auto report = report_at("out");
+  ASSERT_EQ(report["runs"].size(), 4u);  // each row's light_dims replaced by the grid 3, 4
+  std::multiset<int> dims;
+  for (const auto& run : report["runs"])
+    dims.insert(run["integrand_params"]["light_dims"].get<int>());
+  EXPECT_EQ(dims, (std::multiset<int>{3, 3, 4, 4}));
+  // A parameter no row's estimator or integrand has is still bad input.
+  EXPECT_EQ(cli({"run", "suite.json", "-p", "nonsense=1", "--out", "bad", "-q"}).status, 2);
 }
 
 }  // namespace

@@ -263,7 +263,8 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
   if (args.external.reference || args.external.against || args.external.run_id) {
     throw InputError("command line: --reference, --against and --run-id go with --estimates FILE");
   }
-  const bool one_run = !args.estimators.empty() || !args.integrands.empty() || !args.params.empty();
+  // --param goes with either: with a suite file it sets the parameter in every row.
+  const bool one_run = !args.estimators.empty() || !args.integrands.empty();
   if (one_run && !args.suite_path.empty()) {
     throw InputError("command line: give a suite file or --estimator/--integrand, not both");
   }
@@ -276,7 +277,15 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
   SessionOptions session = session_options(args, argv, interrupted);
   if (!args.suite_path.empty()) {
     SuiteRequest suite = load_suite(args.suite_path);
-    for (GridRequest& grid : suite.grids) grids.push_back(resolve_names(std::move(grid)));
+    for (GridRequest& grid : suite.grids) {
+      ResolvedGrid resolved = resolve_names(std::move(grid));
+      // A command-line --param replaces that parameter's values in every row (the full-size
+      // form of a CI suite: `-p resolution=128`).
+      for (auto& [key, values] : params_from_flags(args, resolved)) {
+        resolved.request.params[key] = std::move(values);
+      }
+      grids.push_back(std::move(resolved));
+    }
     session.suite_name = suite.name;
     budget.samples = suite.samples;
     if (suite.replicates) budget.replicates = *suite.replicates;
