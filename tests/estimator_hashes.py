@@ -35,7 +35,7 @@ SCENES = ["furnace", "cornell", "cornell-glossy", "door-ajar"]
 # runs keep the ids, random streams and numbers they had before the published design.
 PCBPT_LEGACY = ["-p", "M=1024", "-p", "K=8", "-p", "uniform_mix=0.1", "-p", "cache=tile-first-hit",
                 "-p", "lookup=tile", "-p", "cache_importance=connection", "-p", "floor=0",
-                "-p", "light_tracing=M"]
+                "-p", "light_tracing=M", "-p", "nee=draws"]
 # Arguments after `pcbench run`; the grid's visibility and guide are read by pcbpt only.
 COMMANDS = {
     "scenes": ["-e", ",".join(SCENE_ESTIMATORS), "-i", ",".join(SCENES),
@@ -44,6 +44,12 @@ COMMANDS = {
     "pcbpt-legacy": ["-e", "pcbpt", "-i", ",".join(SCENES), "-p", "resolution=32",
                      "-p", "visibility=ignored,cache-point", "-p", "guide=first,all"]
                     + PCBPT_LEGACY + ["-n", "4", "-r", "2", "-s", "1", "--strategy-images"],
+    # pcbpt's published choices where pcbench's defaults differ (nee, K, M; pcbpt.h): these runs
+    # keep the ids and numbers they had as pcbpt's defaults.
+    "pcbpt-published": ["-e", "pcbpt", "-i", ",".join(SCENES), "-p", "resolution=32",
+                        "-p", "visibility=ignored,cache-point", "-p", "guide=first,all",
+                        "-p", "nee=draws", "-p", "K=3", "-p", "M=1024",
+                        "-n", "4", "-r", "2", "-s", "1", "--strategy-images"],
     # Every row of the default suite (113 runs) at 2048 samples x 4 replicates instead of its
     # 10^5-10^6 x 32, which would take minutes.
     "analytic": ["suites/default.json", "-n", "2048", "-r", "4", "-s", "1"],

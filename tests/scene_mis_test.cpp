@@ -308,8 +308,9 @@ NamedEstimator example_nee() {
   return {e.name, e.make_render(resolve_params(e.scene_params, {}, e.name))};
 }
 
-// pcbpt's ablations (estimators/scene/pcbpt.h): each element of the published design replaced by
-// its legacy value, and the legacy tile design whole. Their strategy counts differ (light tracing
+// pcbpt's ablations (estimators/scene/pcbpt.h): each element of the default design replaced by
+// its published or legacy value, the dense-cache limit (lookup=exact), and the legacy tile design
+// whole. Their strategy counts differ (light tracing
 // from M or W·H paths, K draws), and so do their renderings.
 std::vector<NamedEstimator> pcbpt_ablations(ParamText base = {}) {
   const std::vector<std::pair<std::string, ParamText>> ablations = {
@@ -320,9 +321,15 @@ std::vector<NamedEstimator> pcbpt_ablations(ParamText base = {}) {
        {{"visibility", "ignored"}, {"cache_importance", "connection"}}},
       {"pcbpt light_tracing=M", {{"light_tracing", "M"}}},
       {"pcbpt mis=resampling", {{"mis", "resampling"}}},
+      {"pcbpt mis=resampling nee=draws", {{"mis", "resampling"}, {"nee", "draws"}}},
+      {"pcbpt nee=draws", {{"nee", "draws"}}},
+      {"pcbpt lookup=exact", {{"lookup", "exact"}}},
+      {"pcbpt published", {{"nee", "draws"}, {"K", "3"}, {"M", "1024"}}},
       {"pcbpt cache_importance=weighted", {{"cache_importance", "weighted"}}},
       {"pcbpt legacy",
-       {{"K", "8"},
+       {{"M", "1024"},
+        {"K", "8"},
+        {"nee", "draws"},
         {"uniform_mix", "0.1"},
         {"cache", "tile-first-hit"},
         {"lookup", "tile"},
@@ -396,12 +403,18 @@ void check_weights(const Scene& scene, const std::vector<FullPath>& paths) {
 
 // A count model (connection.h) that depends on both things it is given, the light side's
 // importance and the camera-side end's position, as pcbpt's mis=resampling does.
+// With next_event false it leaves s = 1 at its constant count, as pcbpt's nee=own-path does.
 class TestCountModel final : public ConnectionCountModel {
  public:
+  explicit TestCountModel(bool next_event) : next_event_(next_event) {}
   double count(double importance, const Vec3& camera_end, double constant) const override {
     if (importance < 0.0) return constant;
     return constant * (0.1 + importance) * (1.0 + camera_end.y * camera_end.y);
   }
+  bool counts_next_event() const override { return next_event_; }
+
+ private:
+  bool next_event_;
 };
 
 // q*_s of strategy s (light vertices z_k .. z_{k-s+1}, camera-side end z_{k-s}), from the
@@ -419,8 +432,9 @@ double light_side_importance(const Scene& scene, const FullPath& p, const PathFa
 
 // With path-dependent counts, each weight is still the balance heuristic over the counts the
 // model gives every strategy of the path, and they sum to 1.
-void check_weights_with_a_count_model(const Scene& scene, const std::vector<FullPath>& paths) {
-  const TestCountModel model;
+void check_weights_with_a_count_model(const Scene& scene, const std::vector<FullPath>& paths,
+                                      bool next_event) {
+  const TestCountModel model(next_event);
   StrategyCounts counts = make_scene_estimator("pcbpt")->strategy_counts(scene);
   counts.model = &model;
   std::size_t checked = 0, varied = 0;
@@ -434,7 +448,7 @@ void check_weights_with_a_count_model(const Scene& scene, const std::vector<Full
     double total = 0.0;
     for (std::size_t s = 0; s <= k; ++s) {
       c[s] = counts.count(static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(k + 1 - s));
-      if (s >= 1 && k + 1 - s >= 2 && c[s] > 0.0) {
+      if (s >= 1 && k + 1 - s >= 2 && c[s] > 0.0 && (s >= 2 || next_event)) {
         const double changed =
             model.count(light_side_importance(scene, p, f, s), p.z[k - s].position, c[s]);
         varied += changed != c[s];
@@ -459,13 +473,16 @@ void check_weights_with_a_count_model(const Scene& scene, const std::vector<Full
 }
 
 TEST(SceneMisWeights, PathCountsSumToOne) {
-  for (const std::string name : {"furnace", "cornell", "cornell-glossy"}) {
-    SCOPED_TRACE(name);
-    const Scene scene = scene_named(name);
-    check_weights_with_a_count_model(scene, camera_paths(scene, 100, 500));
+  for (const bool next_event : {true, false}) {
+    SCOPED_TRACE(next_event ? "next event counted by the model" : "next event constant");
+    for (const std::string name : {"furnace", "cornell", "cornell-glossy"}) {
+      SCOPED_TRACE(name);
+      const Scene scene = scene_named(name);
+      check_weights_with_a_count_model(scene, camera_paths(scene, 100, 500), next_event);
+    }
+    const Scene scene(cornell_with_point_light());
+    check_weights_with_a_count_model(scene, light_paths(scene, 100, 600), next_event);
   }
-  const Scene scene(cornell_with_point_light());
-  check_weights_with_a_count_model(scene, light_paths(scene, 100, 600));
 }
 
 TEST(SceneMisWeights, SumToOneInTheFurnace) {

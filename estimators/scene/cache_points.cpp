@@ -94,8 +94,8 @@ std::uint32_t NearestCachePoints::find(const Vec3& position, std::uint32_t count
                                        std::uint32_t* indices) const {
   if (tree_->point_of.empty() || count == 0) return 0;
   const double query[3] = {position.x, position.y, position.z};
-  double distances[64];
-  count = std::min<std::uint32_t>(count, 64);
+  double distances[kMaxFound];
+  count = std::min(count, kMaxFound);
   const auto found =
       static_cast<std::uint32_t>(tree_->index->knnSearch(query, count, indices, distances));
   for (std::uint32_t i = 0; i < found; ++i) indices[i] = tree_->point_of[indices[i]];

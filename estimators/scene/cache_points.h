@@ -42,9 +42,11 @@ class CachePoints {
 // The nearest cache points of a position: a kd-tree (nanoflann) over the points' positions.
 class NearestCachePoints {
  public:
+  static constexpr std::uint32_t kMaxFound = 64;  // the most points one find() returns
+
   explicit NearestCachePoints(std::span<const CachePoint> points);
   ~NearestCachePoints();
-  // Up to `count` indices into the points, nearest first; returns how many.
+  // Up to `count` (at most kMaxFound) indices into the points, nearest first; returns how many.
   std::uint32_t find(const Vec3& position, std::uint32_t count, std::uint32_t* indices) const;
 
  private:

@@ -17,7 +17,8 @@
 namespace pcbench {
 
 EstimatorEntry ctl_scene_visible_only_entry() {
-  const scene::PcbptConfig d{.draws = 8};
+  // Its own defaults (pcbpt's legacy M and K), whatever pcbpt's are.
+  const scene::PcbptConfig d{.light_paths = 1024, .draws = 8};
   EstimatorEntry e = scene_only_entry(
       "ctl-scene-visible-only",
       "scenes: pcbpt with importance zero where the tile's cache point sees no light, no mixing",
@@ -41,9 +42,12 @@ EstimatorEntry ctl_scene_visible_only_entry() {
                // The legacy tile design (pcbpt.h names each choice's legacy value).
                c.light_tracing_pixels = false;
                c.every_depth = false;
-               c.nearest_lookup = false;
+               c.lookup = scene::PcbptConfig::Lookup::kTile;
                c.importance = scene::PcbptConfig::Importance::kConnection;
              }
+             // Next-event estimation through the draws too, as published: the mistake also
+             // starves it where the cache points see no emitter.
+             c.nee_own_path = false;
              c.visibility_floor = 0.0;
              c.uniform_mix = 0.0;
              c.cache_visibility = true;

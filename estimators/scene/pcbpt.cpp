@@ -56,8 +56,6 @@ namespace pcbench {
 namespace scene {
 namespace {
 
-constexpr std::uint32_t kMaxNearest = 64;  // NearestCachePoints::find's limit
-
 // β(x) f(x → y) G(x, y), largest channel: the light subpath's contribution towards y without
 // y's BSDF (0 for a specular x, which no connection uses).
 double light_importance(const Scene& scene, const PathVertex& x, const PathVertex& y) {
@@ -78,9 +76,10 @@ class ProbabilisticPass final : public ScenePass {
       : services_(services),
         config_(config),
         caches_(services, config.every_depth ? config.grid : config.tile, !config.every_depth) {
-    if (config_.nearest_lookup) nearest_.emplace(caches_.points());
+    if (config_.nearest_lookup()) nearest_.emplace(caches_.points());
     if (config_.resampling_mis) {
-      resampling_counts_.emplace(caches_.points(), m(), config_.draws, config_.uniform_mix);
+      resampling_counts_.emplace(caches_.points(), m(), config_.draws, config_.uniform_mix,
+                                 !config_.nee_own_path);
     }
   }
 
@@ -94,7 +93,11 @@ class ProbabilisticPass final : public ScenePass {
     const auto first_past = std::find_if(vertices_.begin(), vertices_.end(),
                                          [&](const LightVertexRef& v) { return v.path >= m(); });
     vertices_.erase(first_past, vertices_.end());
-    build_distributions(pool, counters);
+    // nee=own-path: the emitter vertices serve next-event estimation and are never drawn.
+    if (config_.nee_own_path) {
+      std::erase_if(vertices_, [](const LightVertexRef& v) { return v.count == 1; });
+    }
+    if (config_.lookup != PcbptConfig::Lookup::kExact) build_distributions(pool, counters);
   }
 
   const ConnectionCountModel* count_model() const override {
@@ -102,8 +105,29 @@ class ProbabilisticPass final : public ScenePass {
   }
 
   Rgb connections(const LightPool& pool, CameraPrefix& prefix) const override {
+    if (!config_.nee_own_path) return drawn_connections(pool, prefix);
+    Rgb value = next_event(pool, prefix);
+    // Every candidate has s >= 2: none fits a prefix with room for one light vertex only.
+    if (prefix.max_s >= 2) value += drawn_connections(pool, prefix);
+    return value;
+  }
+
+ private:
+  std::uint32_t m() const { return config_.light_paths; }
+
+  // nee=own-path: the emitter vertex of the pixel's own pool path (BDPT's pairing of pixel i
+  // with light path i; modulo the pool when it is smaller than the image, under light_tracing=M).
+  Rgb next_event(const LightPool& pool, const CameraPrefix& prefix) const {
+    const auto path = static_cast<std::uint32_t>(prefix.pixel % pool.paths.size());
+    if (pool.paths[path].empty()) return {};
+    return services_.connect_recorded(light_prefix(pool, {.path = path, .count = 1}), prefix);
+  }
+
+  // The K draws among the candidates and their connections.
+  Rgb drawn_connections(const LightPool& pool, CameraPrefix& prefix) const {
     if (vertices_.empty()) return {};
-    if (config_.nearest_lookup) return connect_from_mixture(pool, prefix);
+    if (config_.lookup == PcbptConfig::Lookup::kNearest) return connect_from_mixture(pool, prefix);
+    if (config_.lookup == PcbptConfig::Lookup::kExact) return connect_exact(pool, prefix);
     // lookup=tile: the block's cache point at this depth; deeper than its cache path, the first
     // hit's (guide=all) or a uniform draw, as the light vertex cache does.
     const std::uint32_t block = caches_.block_of(prefix.pixel);
@@ -125,17 +149,44 @@ class ProbabilisticPass final : public ScenePass {
                                   });
   }
 
- private:
-  std::uint32_t m() const { return config_.light_paths; }
-
   // K draws from the mixture of the nearest cache points' P and the uniform share, each
   // weighted by the mixture's exact PMF (cache_mixture.h).
   Rgb connect_from_mixture(const LightPool& pool, CameraPrefix& prefix) const {
-    std::uint32_t near[kMaxNearest];
+    std::uint32_t near[NearestCachePoints::kMaxFound];
     const std::uint32_t found =
         nearest_->find(prefix.vertices.back().position, config_.nearest, near);
-    const CacheMixture mixture(caches_at_, std::span<const std::uint32_t>(near, found),
-                               static_cast<std::uint32_t>(vertices_.size()), config_.uniform_mix);
+    return connect_drawn_from(
+        pool, prefix,
+        CacheMixture(caches_at_, std::span<const std::uint32_t>(near, found),
+                     static_cast<std::uint32_t>(vertices_.size()), config_.uniform_mix));
+  }
+
+  // lookup=exact: the camera vertex as its own cache point, its P built here over every
+  // candidate (shadow rays included), mixed with the uniform share as the nearest lookup does.
+  Rgb connect_exact(const LightPool& pool, CameraPrefix& prefix) const {
+    const CachePoint here{.camera = Subpath(prefix.vertices.begin(), prefix.vertices.end()),
+                          .depth = prefix.t() - 1};
+    CacheDistribution own;
+    std::vector<double> q(vertices_.size(), 0.0);
+    importance_at(pool, here, q, prefix.counters);
+    double total = 0.0;
+    for (double w : q) total += w;
+    if (total > 0.0) {
+      own.pmf.resize(q.size());
+      for (std::size_t i = 0; i < q.size(); ++i) own.pmf[i] = q[i] / total;
+      own.sampler.build(own.pmf, DiscreteSamplerKind::kCdf);
+    }
+    const std::uint32_t self = 0;
+    return connect_drawn_from(
+        pool, prefix,
+        CacheMixture(std::span<const CacheDistribution>(&own, 1),
+                     std::span<const std::uint32_t>(&self, 1),
+                     static_cast<std::uint32_t>(vertices_.size()), config_.uniform_mix));
+  }
+
+  // K draws from `mixture`, each weighted by its exact PMF (cache_mixture.h).
+  Rgb connect_drawn_from(const LightPool& pool, CameraPrefix& prefix,
+                         const CacheMixture& mixture) const {
     const double k = config_.draws;
     const double paths = m();
     return connect_drawn_vertices(
@@ -188,7 +239,7 @@ class ProbabilisticPass final : public ScenePass {
                    .K = config_.draws,
                    .selection = Selection::kImportance,
                    .scheme = DrawScheme::kIndependent,
-                   .uniform_mix = config_.nearest_lookup ? 0.0 : config_.uniform_mix,
+                   .uniform_mix = config_.nearest_lookup() ? 0.0 : config_.uniform_mix,
                    .sampler = DiscreteSamplerKind::kAlias});
     std::vector<TraceCounters> cache_counters(caches);
     tbb::parallel_for(std::size_t{0}, caches, [&](std::size_t c) {
@@ -200,7 +251,7 @@ class ProbabilisticPass final : public ScenePass {
       if (total == 0.0) {
         // The nearest lookup counts it as uniform; lookup=tile mixes zero with uniform, except in
         // the control, whose tile then draws nothing (its bias).
-        if (config_.nearest_lookup || config_.unseen_tiles_draw_nothing) return;
+        if (config_.nearest_lookup() || config_.unseen_tiles_draw_nothing) return;
       }
       step.build_pmf(PoolView{.importance = q}, caches_at_[c].pmf);
       caches_at_[c].sampler.build(caches_at_[c].pmf, DiscreteSamplerKind::kAlias);
@@ -232,6 +283,7 @@ class Probabilistic final : public SceneEstimator {
   StrategyCounts strategy_counts(const Scene& scene) const override {
     StrategyCounts counts = vertex_draw_counts(config_.light_paths, config_.draws);
     counts.light_tracing = pool_size(scene);
+    if (config_.nee_own_path) counts.next_event = 1.0;  // one emitter vertex per camera vertex
     return counts;
   }
   std::unique_ptr<ScenePass> begin_replicate(const RenderServices& services) const override {
@@ -242,127 +294,6 @@ class Probabilistic final : public SceneEstimator {
   PcbptConfig config_;
 };
 
-ParamSpec choice_spec(std::string name, std::string value, std::vector<std::string> choices,
-                      std::string legacy, std::string description) {
-  return {.name = std::move(name),
-          .type = ParamType::kChoice,
-          .default_value = std::move(value),
-          .description = std::move(description),
-          .choices = std::move(choices),
-          .omitted_from_id_at = std::move(legacy)};
-}
-
-std::vector<ParamSpec> pcbpt_params() {
-  const PcbptConfig d;
-  ParamSpec mix = {.name = "uniform_mix",
-                   .type = ParamType::kReal,
-                   .default_value = to_text(d.uniform_mix),
-                   .description =
-                       "defensive share of every draw spread uniformly over the "
-                       "light vertices",
-                   .min = 0.0,
-                   .max = 1.0};
-  ParamSpec grid = tile_spec(d.grid);
-  grid.name = "grid";
-  grid.description =
-      "cache=every-depth: pixels per side of the block one cache path is traced "
-      "through";
-  grid.omitted_from_id_at = to_text(std::int64_t{d.grid});
-  ParamSpec nearest = {.name = "Nc",
-                       .type = ParamType::kInt,
-                       .default_value = std::to_string(d.nearest),
-                       .description = "lookup=nearest: cache points a camera vertex mixes",
-                       .min = 1,
-                       .max = kMaxNearest,
-                       .omitted_from_id_at = std::to_string(d.nearest)};
-  ParamSpec floor = {.name = "floor",
-                     .type = ParamType::kReal,
-                     .default_value = to_text(d.visibility_floor),
-                     .description =
-                         "visibility=cache-point: factor of an occluded entry's "
-                         "importance (0: exact)",
-                     .min = 0.0,
-                     .max = 1.0,
-                     .omitted_from_id_at = to_text(0.0)};
-  ParamSpec m = light_paths_spec(d.light_paths);
-  m.description = "light paths whose vertices are the connections' candidates";
-  return {
-      m,
-      vertex_draws_spec(d.draws),
-      mix,
-      choice_spec("cache", "every-depth", {"every-depth", "tile-first-hit"}, "tile-first-hit",
-                  "cache points at every camera depth of paths from a grid, or one per tile "
-                  "at the first hit"),
-      grid,
-      tile_spec(d.tile),
-      choice_spec("lookup", "nearest", {"nearest", "tile"}, "tile",
-                  "a camera vertex draws from its Nc nearest cache points (kd-tree), or "
-                  "from its block's at its depth"),
-      nearest,
-      {.name = "guide",
-       .type = ParamType::kChoice,
-       .default_value = d.guide_all ? "all" : "first",
-       .description = "lookup=tile: a vertex deeper than its block's cache points draws "
-                      "uniformly (first) or from the first hit's P (all)",
-       .choices = {"first", "all"}},
-      choice_spec("cache_importance", "light", {"light", "connection", "weighted"}, "connection",
-                  "a light vertex's importance at a cache point: its contribution without "
-                  "the camera-side BSDF (light), the whole connection value (connection), or "
-                  "that value MIS-weighted (weighted)"),
-      {.name = "visibility",
-       .type = ParamType::kChoice,
-       .default_value = d.cache_visibility ? "cache-point" : "ignored",
-       .description = "importance times the cache point's visibility of the light vertex "
-                      "(cache-point: one shadow ray per cache point and light vertex), or "
-                      "unoccluded (ignored)",
-       .choices = {"ignored", "cache-point"}},
-      floor,
-      choice_spec("light_tracing", "pixels", {"pixels", "M"}, "M",
-                  "light tracing from max(M, W·H) paths as BDPT splats, or from the M "
-                  "candidates"),
-      choice_spec("mis", d.resampling_mis ? "resampling" : "balance", {"balance", "resampling"},
-                  "balance",
-                  "the balance heuristic counts K samples per connection strategy "
-                  "(balance), or the draws' effective samples of the path's light vertex, "
-                  "K M p̄ from the previous iteration's tables (resampling, "
-                  "estimators/scene/resampling_counts.h)")};
-}
-
-PcbptConfig read_config(const ResolvedParams& p) {
-  PcbptConfig c;
-  c.light_paths = static_cast<std::uint32_t>(p.integer("M"));
-  c.draws = static_cast<std::uint32_t>(p.integer("K"));
-  c.uniform_mix = p.real("uniform_mix");
-  c.every_depth = p.text("cache") == "every-depth";
-  c.grid = static_cast<std::uint32_t>(p.integer("grid"));
-  c.tile = static_cast<std::uint32_t>(p.integer("tile"));
-  c.nearest_lookup = p.text("lookup") == "nearest";
-  c.nearest = static_cast<std::uint32_t>(p.integer("Nc"));
-  c.guide_all = p.text("guide") == "all";
-  const std::string importance = p.text("cache_importance");
-  c.importance = importance == "light"        ? PcbptConfig::Importance::kLight
-                 : importance == "connection" ? PcbptConfig::Importance::kConnection
-                                              : PcbptConfig::Importance::kWeighted;
-  c.cache_visibility = p.text("visibility") == "cache-point";
-  c.visibility_floor = p.real("floor");
-  c.light_tracing_pixels = p.text("light_tracing") == "pixels";
-  c.resampling_mis = p.text("mis") == "resampling";
-  if (c.resampling_mis && !c.nearest_lookup) {
-    throw InputError(
-        "mis=resampling needs lookup=nearest: its counts are a function of where a path's "
-        "vertices are, which lookup=tile (by pixel) is not");
-  }
-  // A camera vertex sees light its cache points do not (occluded from them, or behind their
-  // surface): only the uniform share keeps p > 0 for it.
-  if (!(c.uniform_mix > 0.0) && (c.nearest_lookup || c.cache_visibility)) {
-    throw InputError(
-        "uniform_mix = 0 needs lookup=tile and visibility=ignored: without mixing, light "
-        "vertices the cache points cannot see are never drawn for camera vertices that can "
-        "(biased; that is the negative control ctl-scene-visible-only)");
-  }
-  return c;
-}
-
 }  // namespace
 
 std::shared_ptr<const SceneEstimator> make_pcbpt(const PcbptConfig& config) {
@@ -370,10 +301,4 @@ std::shared_ptr<const SceneEstimator> make_pcbpt(const PcbptConfig& config) {
 }
 
 }  // namespace scene
-
-SceneForm pcbpt_scene_form() {
-  return {.params = scene::pcbpt_params(),
-          .make = [](const ResolvedParams& p) { return scene::make_pcbpt(scene::read_config(p)); }};
-}
-
 }  // namespace pcbench

@@ -1,8 +1,10 @@
 // Probabilistic connections (pcbpt.cpp), configurable for its ablations and its negative control
 // (ctl_scene_visible_only.cpp). The defaults are the published design; the comments name the
 // legacy value of each choice (the tile design pcbench had before: cache=tile-first-hit,
-// lookup=tile, cache_importance=connection, visibility=ignored, light_tracing=M, M=1024, K=8,
-// uniform_mix=0.1, mis=balance), which reproduces that estimator bit for bit.
+// lookup=tile, cache_importance=connection, visibility=ignored, light_tracing=M, nee=draws,
+// M=1024, K=8, uniform_mix=0.1, mis=balance), which reproduces that estimator bit for bit. Three
+// defaults are pcbench's own, on measurement (README "pcbpt's parameters"): nee=own-path, K = 8
+// and M = 128; the published values are nee=draws, K = 3 and a larger pool.
 #pragma once
 
 #include <cstdint>
@@ -14,20 +16,30 @@ namespace pcbench::scene {
 
 struct PcbptConfig {
   // M: light paths whose vertices are the connections' candidates (legacy 1024).
-  std::uint32_t light_paths = 1024;
+  std::uint32_t light_paths = 128;
   // Light tracing (t = 1) from W·H paths as BDPT splats (the pool is max(M, W·H) and its first
   // M paths are the candidates), or from the M candidates only (legacy).
   bool light_tracing_pixels = true;
-  std::uint32_t draws = 3;    // K per camera vertex (legacy 8)
+  std::uint32_t draws = 8;    // K per camera vertex (published 3, legacy 8)
   double uniform_mix = 0.25;  // u, the defensive uniform share (legacy 0.1)
   // Cache points at every non-specular depth of cache paths from a grid of `grid` × `grid`
   // pixel blocks, or one per `tile` × `tile` tile at the first hit (legacy).
   bool every_depth = true;
   std::uint32_t grid = 16;
   std::uint32_t tile = 8;
+  // Next-event estimation (s = 1): every camera vertex connects to the emitter vertex of its
+  // pixel's own pool path, as BDPT does, and the K draws choose among the vertices with s >= 2
+  // (own-path), or the emitter vertices are candidates of the draws like every other vertex
+  // (nee=draws: the published design, and legacy).
+  bool nee_own_path = true;
   // A camera vertex draws from the mixture of its `nearest` nearest cache points (kd-tree) and
-  // the uniform share, or from its block's cache point at its own depth (legacy lookup=tile).
-  bool nearest_lookup = true;
+  // the uniform share (kNearest), or from its block's cache point at its own depth (kTile,
+  // legacy), or is its own cache point (kExact: the importance of every candidate weighed at the
+  // camera vertex itself, shadow rays included: the limit of a dense cache, O(N_v) per camera
+  // vertex, for measuring what guidance can buy, not for rendering).
+  enum class Lookup { kNearest, kTile, kExact };
+  Lookup lookup = Lookup::kNearest;
+  bool nearest_lookup() const { return lookup == Lookup::kNearest; }
   std::uint32_t nearest = 3;  // Nc
   // lookup=tile: a vertex deeper than its block's cache points draws from the first hit's P
   // (guide=all), or uniformly (guide=first, legacy).

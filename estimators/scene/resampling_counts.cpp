@@ -6,8 +6,13 @@
 namespace pcbench::scene {
 
 ResamplingCounts::ResamplingCounts(std::span<const CachePoint> points, std::uint32_t light_paths,
-                                   std::uint32_t draws, double uniform_mix)
-    : points_(points), m_(light_paths), k_(draws), u_(uniform_mix) {
+                                   std::uint32_t draws, double uniform_mix,
+                                   bool next_event_drawn)
+    : points_(points),
+      m_(light_paths),
+      k_(draws),
+      u_(uniform_mix),
+      next_event_drawn_(next_event_drawn) {
   bool any = false;
   Vec3 high = {};
   for (const CachePoint& point : points_) {

@@ -25,14 +25,17 @@ namespace pcbench::scene {
 
 class ResamplingCounts final : public ConnectionCountModel {
  public:
+  // `next_event_drawn`: the emitter vertices are candidates of the draws (pcbpt's nee=draws);
+  // otherwise next-event strategies keep their constant count.
   ResamplingCounts(std::span<const CachePoint> points, std::uint32_t light_paths,
-                   std::uint32_t draws, double uniform_mix);
+                   std::uint32_t draws, double uniform_mix, bool next_event_drawn);
 
   // One iteration's tables: per cache point Σ_i q_c(i) (0 for a point that sees nothing or has
   // no vertex), over `candidates` = N_v light vertices.
   void learn(std::span<const double> totals, std::uint32_t candidates);
 
   double count(double importance, const Vec3& camera_end, double constant) const override;
+  bool counts_next_event() const override { return next_event_drawn_; }
 
  private:
   static constexpr std::uint32_t kCells = 16;  // per axis
@@ -40,6 +43,7 @@ class ResamplingCounts final : public ConnectionCountModel {
 
   std::span<const CachePoint> points_;
   double m_, k_, u_;
+  bool next_event_drawn_;
   Vec3 low_ = {}, cell_size_ = {1.0, 1.0, 1.0};
   std::vector<double> mean_mass_;     // per cell: Q̄, the mean importance mass per light path
   double uniform_probability_ = 0.0;  // 1 / N_v

@@ -184,7 +184,8 @@ double balance_weight(const Scene& scene, std::span<const PathVertex> light,
   auto count = [&](std::size_t light_vertices) {
     const double constant = counts.count(static_cast<std::uint32_t>(light_vertices),
                                          static_cast<std::uint32_t>(k - light_vertices));
-    if (!path_counts || light_vertices == 0 || k - light_vertices < 2 || constant <= 0.0) {
+    if (!path_counts || light_vertices == 0 || k - light_vertices < 2 || constant <= 0.0 ||
+        (light_vertices == 1 && !counts.model->counts_next_event())) {
       return constant;
     }
     return counts.model->count(importance[light_vertices], z.at(light_vertices).position, constant);

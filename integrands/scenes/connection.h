@@ -33,6 +33,9 @@ class ConnectionCountModel {
   // z_i (the throughput × f × G a cache point's P uses); negative when the light side has a
   // specular vertex. `constant`: the StrategyCounts count of the strategy.
   virtual double count(double importance, const Vec3& camera_end, double constant) const = 0;
+  // Whether next-event strategies (s = 1) are drawn as the connections are, and so asked too;
+  // when not (pcbpt's nee=own-path), they keep their constant count.
+  virtual bool counts_next_event() const { return true; }
 };
 
 // Samples per pixel and iteration of each kind of strategy; 0 where the estimator lacks it.

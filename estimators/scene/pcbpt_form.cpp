@@ -1,0 +1,156 @@
+// pcbpt's parameters (`pcbench list`), read into a PcbptConfig (pcbpt.h): the published design's
+// choices, pcbench's measured defaults and each legacy value, which keeps the runs recorded before
+// a parameter existed at their ids (ParamSpec::omitted_from_id_at).
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "base/errors.h"
+#include "estimators/scene/cache_points.h"
+#include "estimators/scene/pcbpt.h"
+#include "estimators/scene/scene_estimators.h"
+#include "estimators/scene/scene_form.h"
+
+namespace pcbench {
+namespace scene {
+namespace {
+
+// A choice added after runs were recorded: at `legacy` it is left out of the run's id.
+ParamSpec choice_spec(std::string name, std::string value, std::vector<std::string> choices,
+                      std::string legacy, std::string description) {
+  return {.name = std::move(name),
+          .type = ParamType::kChoice,
+          .default_value = std::move(value),
+          .description = std::move(description),
+          .choices = std::move(choices),
+          .omitted_from_id_at = std::move(legacy)};
+}
+
+// A number in [min, max]; `legacy` as in choice_spec (none: always in the id).
+ParamSpec number_spec(std::string name, ParamType type, std::string value, double min, double max,
+                      std::optional<std::string> legacy, std::string description) {
+  return {.name = std::move(name),
+          .type = type,
+          .default_value = std::move(value),
+          .description = std::move(description),
+          .min = min,
+          .max = max,
+          .omitted_from_id_at = std::move(legacy)};
+}
+
+std::vector<ParamSpec> pcbpt_params() {
+  const PcbptConfig d;
+  const ParamSpec mix = number_spec(
+      "uniform_mix", ParamType::kReal, to_text(d.uniform_mix), 0.0, 1.0, std::nullopt,
+      "defensive share of every draw spread uniformly over the light vertices");
+  ParamSpec grid = tile_spec(d.grid);
+  grid.name = "grid";
+  grid.description =
+      "cache=every-depth: pixels per side of the block one cache path is traced "
+      "through";
+  grid.omitted_from_id_at = to_text(std::int64_t{d.grid});
+  const ParamSpec nearest =
+      number_spec("Nc", ParamType::kInt, std::to_string(d.nearest), 1, NearestCachePoints::kMaxFound,
+                  std::to_string(d.nearest), "lookup=nearest: cache points a camera vertex mixes");
+  const ParamSpec floor = number_spec(
+      "floor", ParamType::kReal, to_text(d.visibility_floor), 0.0, 1.0, to_text(0.0),
+      "visibility=cache-point: factor of an occluded entry's importance (0: exact)");
+  ParamSpec m = light_paths_spec(d.light_paths);
+  m.description = "light paths whose vertices are the connections' candidates";
+  return {
+      m,
+      vertex_draws_spec(d.draws),
+      mix,
+      choice_spec("cache", "every-depth", {"every-depth", "tile-first-hit"}, "tile-first-hit",
+                  "cache points at every camera depth of paths from a grid, or one per tile "
+                  "at the first hit"),
+      grid,
+      tile_spec(d.tile),
+      choice_spec("lookup", "nearest", {"nearest", "tile", "exact"}, "tile",
+                  "a camera vertex draws from its Nc nearest cache points (kd-tree), or "
+                  "from its block's at its depth, or is its own cache point (exact: the "
+                  "dense-cache limit, N_v importances and shadow rays per camera vertex)"),
+      nearest,
+      {.name = "guide",
+       .type = ParamType::kChoice,
+       .default_value = d.guide_all ? "all" : "first",
+       .description = "lookup=tile: a vertex deeper than its block's cache points draws "
+                      "uniformly (first) or from the first hit's P (all)",
+       .choices = {"first", "all"}},
+      choice_spec("cache_importance", "light", {"light", "connection", "weighted"}, "connection",
+                  "a light vertex's importance at a cache point: its contribution without "
+                  "the camera-side BSDF (light), the whole connection value (connection), or "
+                  "that value MIS-weighted (weighted)"),
+      {.name = "visibility",
+       .type = ParamType::kChoice,
+       .default_value = d.cache_visibility ? "cache-point" : "ignored",
+       .description = "importance times the cache point's visibility of the light vertex "
+                      "(cache-point: one shadow ray per cache point and light vertex), or "
+                      "unoccluded (ignored)",
+       .choices = {"ignored", "cache-point"}},
+      floor,
+      choice_spec("light_tracing", "pixels", {"pixels", "M"}, "M",
+                  "light tracing from max(M, W·H) paths as BDPT splats, or from the M "
+                  "candidates"),
+      choice_spec("nee", d.nee_own_path ? "own-path" : "draws", {"own-path", "draws"}, "draws",
+                  "next-event estimation: every camera vertex connects to its pixel's own "
+                  "pool path's emitter vertex, as BDPT does, and the K draws choose among "
+                  "vertices with s >= 2 (own-path), or emitter vertices are candidates of the "
+                  "draws (draws, the published design)"),
+      choice_spec("mis", d.resampling_mis ? "resampling" : "balance", {"balance", "resampling"},
+                  "balance",
+                  "the balance heuristic counts K samples per connection strategy "
+                  "(balance), or the draws' effective samples of the path's light vertex, "
+                  "K M p̄ from the previous iteration's tables (resampling, "
+                  "estimators/scene/resampling_counts.h)")};
+}
+
+PcbptConfig read_config(const ResolvedParams& p) {
+  PcbptConfig c;
+  c.light_paths = static_cast<std::uint32_t>(p.integer("M"));
+  c.draws = static_cast<std::uint32_t>(p.integer("K"));
+  c.uniform_mix = p.real("uniform_mix");
+  c.every_depth = p.text("cache") == "every-depth";
+  c.grid = static_cast<std::uint32_t>(p.integer("grid"));
+  c.tile = static_cast<std::uint32_t>(p.integer("tile"));
+  const std::string lookup = p.text("lookup");
+  c.lookup = lookup == "nearest" ? PcbptConfig::Lookup::kNearest
+             : lookup == "tile"  ? PcbptConfig::Lookup::kTile
+                                 : PcbptConfig::Lookup::kExact;
+  c.nee_own_path = p.text("nee") == "own-path";
+  c.nearest = static_cast<std::uint32_t>(p.integer("Nc"));
+  c.guide_all = p.text("guide") == "all";
+  const std::string importance = p.text("cache_importance");
+  c.importance = importance == "light"        ? PcbptConfig::Importance::kLight
+                 : importance == "connection" ? PcbptConfig::Importance::kConnection
+                                              : PcbptConfig::Importance::kWeighted;
+  c.cache_visibility = p.text("visibility") == "cache-point";
+  c.visibility_floor = p.real("floor");
+  c.light_tracing_pixels = p.text("light_tracing") == "pixels";
+  c.resampling_mis = p.text("mis") == "resampling";
+  if (c.resampling_mis && !c.nearest_lookup()) {
+    throw InputError(
+        "mis=resampling needs lookup=nearest: its counts are a function of where a path's "
+        "vertices are, which lookup=tile (by pixel) is not");
+  }
+  // A camera vertex sees light its cache points do not (occluded from them, or behind their
+  // surface): only the uniform share keeps p > 0 for it.
+  if (!(c.uniform_mix > 0.0) && (c.lookup != PcbptConfig::Lookup::kTile || c.cache_visibility)) {
+    throw InputError(
+        "uniform_mix = 0 needs lookup=tile and visibility=ignored: without mixing, light "
+        "vertices the cache points cannot see are never drawn for camera vertices that can "
+        "(biased; that is the negative control ctl-scene-visible-only)");
+  }
+  return c;
+}
+
+}  // namespace
+}  // namespace scene
+
+SceneForm pcbpt_scene_form() {
+  return {.params = scene::pcbpt_params(),
+          .make = [](const ResolvedParams& p) { return scene::make_pcbpt(scene::read_config(p)); }};
+}
+
+}  // namespace pcbench
