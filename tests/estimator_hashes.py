@@ -44,11 +44,12 @@ COMMANDS = {
     "pcbpt-legacy": ["-e", "pcbpt", "-i", ",".join(SCENES), "-p", "resolution=32",
                      "-p", "visibility=ignored,cache-point", "-p", "guide=first,all"]
                     + PCBPT_LEGACY + ["-n", "4", "-r", "2", "-s", "1", "--strategy-images"],
-    # pcbpt's published choices where pcbench's defaults differ (nee, K, M; pcbpt.h): these runs
-    # keep the ids and numbers they had as pcbpt's defaults.
+    # pcbpt's published choices where pcbench's defaults differ (nee, K, M, light_tracing;
+    # pcbpt.h): these runs keep the ids and numbers they had as pcbpt's defaults.
     "pcbpt-published": ["-e", "pcbpt", "-i", ",".join(SCENES), "-p", "resolution=32",
                         "-p", "visibility=ignored,cache-point", "-p", "guide=first,all",
                         "-p", "nee=draws", "-p", "K=3", "-p", "M=1024",
+                        "-p", "light_tracing=pixels",
                         "-n", "4", "-r", "2", "-s", "1", "--strategy-images"],
     # Every row of the default suite (113 runs) at 2048 samples x 4 replicates instead of its
     # 10^5-10^6 x 32, which would take minutes.

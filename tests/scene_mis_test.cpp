@@ -319,12 +319,13 @@ std::vector<NamedEstimator> pcbpt_ablations(ParamText base = {}) {
       {"pcbpt floor=0", {{"floor", "0"}}},
       {"pcbpt visibility=ignored cache_importance=connection",
        {{"visibility", "ignored"}, {"cache_importance", "connection"}}},
-      {"pcbpt light_tracing=M", {{"light_tracing", "M"}}},
       {"pcbpt mis=resampling", {{"mis", "resampling"}}},
       {"pcbpt mis=resampling nee=draws", {{"mis", "resampling"}, {"nee", "draws"}}},
       {"pcbpt nee=draws", {{"nee", "draws"}}},
       {"pcbpt lookup=exact", {{"lookup", "exact"}}},
-      {"pcbpt published", {{"nee", "draws"}, {"K", "3"}, {"M", "1024"}}},
+      {"pcbpt published",
+       {{"nee", "draws"}, {"K", "3"}, {"M", "1024"}, {"light_tracing", "pixels"}}},
+      {"pcbpt light_tracing=pixels", {{"light_tracing", "pixels"}}},
       {"pcbpt cache_importance=weighted", {{"cache_importance", "weighted"}}},
       {"pcbpt legacy",
        {{"M", "1024"},
@@ -403,7 +404,7 @@ void check_weights(const Scene& scene, const std::vector<FullPath>& paths) {
 
 // A count model (connection.h) that depends on both things it is given, the light side's
 // importance and the camera-side end's position, as pcbpt's mis=resampling does.
-// With next_event false it leaves s = 1 at its constant count, as pcbpt's nee=own-path does.
+// With next_event false it leaves s = 1 at its constant count, as pcbpt's nee=fresh does.
 class TestCountModel final : public ConnectionCountModel {
  public:
   explicit TestCountModel(bool next_event) : next_event_(next_event) {}

@@ -38,6 +38,7 @@ EstimatorEntry ctl_scene_visible_only_entry() {
              c.light_paths = static_cast<std::uint32_t>(p.integer("M"));
              c.draws = static_cast<std::uint32_t>(p.integer("K"));
              c.tile = static_cast<std::uint32_t>(p.integer("tile"));
+             c.light_tracing_pixels = true;
              if (p.text("design") == "tile") {
                // The legacy tile design (pcbpt.h names each choice's legacy value).
                c.light_tracing_pixels = false;
@@ -45,9 +46,10 @@ EstimatorEntry ctl_scene_visible_only_entry() {
                c.lookup = scene::PcbptConfig::Lookup::kTile;
                c.importance = scene::PcbptConfig::Importance::kConnection;
              }
-             // Next-event estimation through the draws too, as published: the mistake also
-             // starves it where the cache points see no emitter.
-             c.nee_own_path = false;
+             // Next-event estimation through the draws and light tracing from W·H paths, as
+             // published (tile: from M, as the legacy design): the mistake also starves next
+             // events where the cache points see no emitter.
+             c.nee_fresh = false;
              c.visibility_floor = 0.0;
              c.uniform_mix = 0.0;
              c.cache_visibility = true;

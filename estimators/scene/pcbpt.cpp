@@ -51,6 +51,7 @@
 #include "estimators/scene/scene_estimators.h"
 #include "estimators/scene/vertex_draws.h"
 #include "integrands/scenes/bsdf.h"
+#include "integrands/scenes/path_vertex.h"
 
 namespace pcbench {
 namespace scene {
@@ -79,7 +80,7 @@ class ProbabilisticPass final : public ScenePass {
     if (config_.nearest_lookup()) nearest_.emplace(caches_.points());
     if (config_.resampling_mis) {
       resampling_counts_.emplace(caches_.points(), m(), config_.draws, config_.uniform_mix,
-                                 !config_.nee_own_path);
+                                 !config_.nee_fresh);
     }
   }
 
@@ -93,8 +94,8 @@ class ProbabilisticPass final : public ScenePass {
     const auto first_past = std::find_if(vertices_.begin(), vertices_.end(),
                                          [&](const LightVertexRef& v) { return v.path >= m(); });
     vertices_.erase(first_past, vertices_.end());
-    // nee=own-path: the emitter vertices serve next-event estimation and are never drawn.
-    if (config_.nee_own_path) {
+    // nee=fresh: next-event estimation has emitter vertices of its own; the pool's are not drawn.
+    if (config_.nee_fresh) {
       std::erase_if(vertices_, [](const LightVertexRef& v) { return v.count == 1; });
     }
     if (config_.lookup != PcbptConfig::Lookup::kExact) build_distributions(pool, counters);
@@ -105,8 +106,8 @@ class ProbabilisticPass final : public ScenePass {
   }
 
   Rgb connections(const LightPool& pool, CameraPrefix& prefix) const override {
-    if (!config_.nee_own_path) return drawn_connections(pool, prefix);
-    Rgb value = next_event(pool, prefix);
+    if (!config_.nee_fresh) return drawn_connections(pool, prefix);
+    Rgb value = next_event(prefix);
     // Every candidate has s >= 2: none fits a prefix with room for one light vertex only.
     if (prefix.max_s >= 2) value += drawn_connections(pool, prefix);
     return value;
@@ -115,12 +116,12 @@ class ProbabilisticPass final : public ScenePass {
  private:
   std::uint32_t m() const { return config_.light_paths; }
 
-  // nee=own-path: the emitter vertex of the pixel's own pool path (BDPT's pairing of pixel i
-  // with light path i; modulo the pool when it is smaller than the image, under light_tracing=M).
-  Rgb next_event(const LightPool& pool, const CameraPrefix& prefix) const {
-    const auto path = static_cast<std::uint32_t>(prefix.pixel % pool.paths.size());
-    if (pool.paths[path].empty()) return {};
-    return services_.connect_recorded(light_prefix(pool, {.path = path, .count = 1}), prefix);
+  // nee=fresh: an emitter vertex of its own for the camera vertex, drawn as a light subpath's
+  // first vertex is (sample_emitter_vertex) from the pixel's camera stream where its subpath
+  // left it, as path tracing does: independent of the pool and of every other pixel.
+  Rgb next_event(CameraPrefix& prefix) const {
+    const PathVertex emitter = sample_emitter_vertex(services_.scene(), prefix.camera);
+    return services_.connect_recorded(std::span(&emitter, 1), prefix);
   }
 
   // The K draws among the candidates and their connections.
@@ -283,7 +284,7 @@ class Probabilistic final : public SceneEstimator {
   StrategyCounts strategy_counts(const Scene& scene) const override {
     StrategyCounts counts = vertex_draw_counts(config_.light_paths, config_.draws);
     counts.light_tracing = pool_size(scene);
-    if (config_.nee_own_path) counts.next_event = 1.0;  // one emitter vertex per camera vertex
+    if (config_.nee_fresh) counts.next_event = 1.0;  // one emitter vertex per camera vertex
     return counts;
   }
   std::unique_ptr<ScenePass> begin_replicate(const RenderServices& services) const override {

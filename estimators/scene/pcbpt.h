@@ -2,9 +2,10 @@
 // (ctl_scene_visible_only.cpp). The defaults are the published design; the comments name the
 // legacy value of each choice (the tile design pcbench had before: cache=tile-first-hit,
 // lookup=tile, cache_importance=connection, visibility=ignored, light_tracing=M, nee=draws,
-// M=1024, K=8, uniform_mix=0.1, mis=balance), which reproduces that estimator bit for bit. Three
-// defaults are pcbench's own, on measurement (README "pcbpt's parameters"): nee=own-path, K = 8
-// and M = 128; the published values are nee=draws, K = 3 and a larger pool.
+// M=1024, K=8, uniform_mix=0.1, mis=balance), which reproduces that estimator bit for bit. Four
+// defaults are pcbench's own, on measurement (README "pcbpt's parameters"): nee=fresh, K = 8,
+// M = 128 and light_tracing=M; the published values are nee=draws, K = 3, a larger pool and
+// light_tracing=pixels.
 #pragma once
 
 #include <cstdint>
@@ -18,8 +19,9 @@ struct PcbptConfig {
   // M: light paths whose vertices are the connections' candidates (legacy 1024).
   std::uint32_t light_paths = 128;
   // Light tracing (t = 1) from W·H paths as BDPT splats (the pool is max(M, W·H) and its first
-  // M paths are the candidates), or from the M candidates only (legacy).
-  bool light_tracing_pixels = true;
+  // M paths are the candidates: the published design), or from the M candidates only (legacy,
+  // and pcbench's default on measurement).
+  bool light_tracing_pixels = false;
   std::uint32_t draws = 8;    // K per camera vertex (published 3, legacy 8)
   double uniform_mix = 0.25;  // u, the defensive uniform share (legacy 0.1)
   // Cache points at every non-specular depth of cache paths from a grid of `grid` × `grid`
@@ -27,11 +29,11 @@ struct PcbptConfig {
   bool every_depth = true;
   std::uint32_t grid = 16;
   std::uint32_t tile = 8;
-  // Next-event estimation (s = 1): every camera vertex connects to the emitter vertex of its
-  // pixel's own pool path, as BDPT does, and the K draws choose among the vertices with s >= 2
-  // (own-path), or the emitter vertices are candidates of the draws like every other vertex
-  // (nee=draws: the published design, and legacy).
-  bool nee_own_path = true;
+  // Next-event estimation (s = 1): every camera vertex connects to an emitter vertex drawn for
+  // it alone, as path tracing does, and the K draws choose among the pool's vertices with s >= 2
+  // (nee=fresh), or the pool's emitter vertices are candidates of the draws like every other
+  // vertex (nee=draws: the published design, and legacy).
+  bool nee_fresh = true;
   // A camera vertex draws from the mixture of its `nearest` nearest cache points (kd-tree) and
   // the uniform share (kNearest), or from its block's cache point at its own depth (kTile,
   // legacy), or is its own cache point (kExact: the importance of every candidate weighed at the

@@ -90,14 +90,14 @@ std::vector<ParamSpec> pcbpt_params() {
                       "unoccluded (ignored)",
        .choices = {"ignored", "cache-point"}},
       floor,
-      choice_spec("light_tracing", "pixels", {"pixels", "M"}, "M",
+      choice_spec("light_tracing", d.light_tracing_pixels ? "pixels" : "M", {"pixels", "M"}, "M",
                   "light tracing from max(M, W·H) paths as BDPT splats, or from the M "
                   "candidates"),
-      choice_spec("nee", d.nee_own_path ? "own-path" : "draws", {"own-path", "draws"}, "draws",
-                  "next-event estimation: every camera vertex connects to its pixel's own "
-                  "pool path's emitter vertex, as BDPT does, and the K draws choose among "
-                  "vertices with s >= 2 (own-path), or emitter vertices are candidates of the "
-                  "draws (draws, the published design)"),
+      choice_spec("nee", d.nee_fresh ? "fresh" : "draws", {"fresh", "draws"}, "draws",
+                  "next-event estimation: every camera vertex connects to an emitter vertex "
+                  "drawn for it alone, as path tracing does, and the K draws choose among the "
+                  "pool's vertices with s >= 2 (fresh), or the pool's emitter vertices are "
+                  "candidates of the draws (draws, the published design)"),
       choice_spec("mis", d.resampling_mis ? "resampling" : "balance", {"balance", "resampling"},
                   "balance",
                   "the balance heuristic counts K samples per connection strategy "
@@ -118,7 +118,7 @@ PcbptConfig read_config(const ResolvedParams& p) {
   c.lookup = lookup == "nearest" ? PcbptConfig::Lookup::kNearest
              : lookup == "tile"  ? PcbptConfig::Lookup::kTile
                                  : PcbptConfig::Lookup::kExact;
-  c.nee_own_path = p.text("nee") == "own-path";
+  c.nee_fresh = p.text("nee") == "fresh";
   c.nearest = static_cast<std::uint32_t>(p.integer("Nc"));
   c.guide_all = p.text("guide") == "all";
   const std::string importance = p.text("cache_importance");

@@ -34,7 +34,7 @@ class ConnectionCountModel {
   // specular vertex. `constant`: the StrategyCounts count of the strategy.
   virtual double count(double importance, const Vec3& camera_end, double constant) const = 0;
   // Whether next-event strategies (s = 1) are drawn as the connections are, and so asked too;
-  // when not (pcbpt's nee=own-path), they keep their constant count.
+  // when not (pcbpt's nee=fresh), they keep their constant count.
   virtual bool counts_next_event() const { return true; }
 };
 
