@@ -2,8 +2,9 @@
 // "Probabilistic Connections for Bidirectional Path Tracing", CGF 34(4), EGSR 2015).
 //
 // Estimates the image with a pool of light subpaths per iteration shared by every pixel: its
-// first M paths' N_v vertices x_i (emitter vertices too) are the connections' candidates, and
-// light tracing (t = 1) splats every pool path, max(M, W·H) of them as BDPT splats W·H.
+// first M paths' N_v vertices x_i are the connections' candidates (under nee=fresh those with
+// s >= 2 only), and light tracing (t = 1) splats every pool path: M of them (light_tracing=M), or
+// max(M, W·H) as BDPT splats W·H (light_tracing=pixels).
 // Cache points y_c are the non-specular vertices, at every camera depth, of cache paths traced
 // once per replicate through the centres of `grid` × `grid` pixel blocks (fixed per replicate,
 // independent of every pool). Per iteration each cache point gets a PMF over the candidates,
@@ -14,25 +15,30 @@
 // nearest cache points C (kd-tree, estimators/scene/cache_points.h) and draws K candidates from
 //     p(i) = u / N_v + (1 - u) / |C| Σ_{c∈C} P_c(i)
 // (a cache point that sees nothing counts as uniform), each connection weighted 1 / (K M p(i)):
-//     <I_j> = Σ_t [ w_{0,t} f / p_{0,t} + Σ_{k<K} 1/(K M p(ξ_k)) w_{s_k,t} f / p_{s_k,t} ] + lt.
-// Unbiased wherever p > 0 where f > 0: always with u > 0. The balance weights count K samples per
-// connection strategy, 1 per emitter hit and the pool size for light tracing (mis=balance), or,
-// per connection strategy, the draws' effective samples of the path's light vertex from the
-// previous iteration's tables (mis=resampling, resampling_counts.h; README "pcbpt's parameters"
-// gives the measurements that keep it off by default).
+//     <I_j> = Σ_t [ w_{0,t} f / p_{0,t} + w_{1,t} f / p_{1,t} (nee=fresh)
+//                   + Σ_{k<K} 1/(K M p(ξ_k)) w_{s_k,t} f / p_{s_k,t} ] + lt,
+// where nee=fresh's next event connects y_{t-1} to an emitter vertex drawn for it alone, as path
+// tracing does (under nee=draws the emitter vertices are candidates like any other). Unbiased
+// wherever p > 0 where f > 0: always with u > 0. The balance weights count K samples per
+// connection strategy (and per next-event strategy under nee=draws, 1 under nee=fresh), 1 per
+// emitter hit and the pool size for light tracing (mis=balance), or, per connection strategy, the
+// draws' effective samples of the path's light vertex from the previous iteration's tables
+// (mis=resampling, resampling_counts.h; README "pcbpt's parameters" gives the measurements that
+// keep it off by default).
 //
-// Every choice is a parameter (defaults: the published design; PcbptConfig, pcbpt.h, names the
-// legacy value of each): M (1024), K (3), uniform_mix u (0.25), cache every-depth|tile-first-hit,
-// grid (16), tile (8), lookup nearest|tile, Nc (3), guide first|all, cache_importance
-// light|connection|weighted, visibility cache-point|ignored, floor (0.02), light_tracing
-// pixels|M, mis balance|resampling. The
-// legacy values (cache=tile-first-hit lookup=tile cache_importance=connection floor=0
-// light_tracing=M with M=1024 K=8 uniform_mix=0.1 tile=8) are the tile design pcbench had before,
-// bit for bit: one cache point per tile at the first hit, its P mixed with uniform, deeper vertices
-// uniform (guide=first). Public sources of the defaults: cache points at every depth from a grid of
-// about 1/16 of the pixels per axis, K = 3, three nearest cache points and a uniform share of 0.25,
-// importance without the camera-side BSDF, occluded entries scaled by 0.02 (README, "pcbpt's
-// parameters").
+// Every choice is a parameter (PcbptConfig, pcbpt.h, names the published and legacy value of
+// each; pcbpt_form.cpp declares them): M (128), K (8), uniform_mix u (0.25), cache
+// every-depth|tile-first-hit, grid (16), tile (8), lookup nearest|tile|exact, Nc (3), guide
+// first|all, cache_importance light|connection|weighted, visibility cache-point|ignored, floor
+// (0.02), nee fresh|draws, light_tracing M|pixels, mis balance|resampling. The published design
+// is nee=draws K=3 M=1024 light_tracing=pixels with the other defaults (public sources: cache
+// points at every depth from a grid of about 1/16 of the pixels per axis, K = 3, three nearest
+// cache points and a uniform share of 0.25, importance without the camera-side BSDF, occluded
+// entries scaled by 0.02; README, "pcbpt's parameters"); nee=fresh, K = 8, M = 128 and
+// light_tracing=M are pcbench's on measurement. The legacy values (cache=tile-first-hit
+// lookup=tile cache_importance=connection floor=0 light_tracing=M nee=draws with M=1024 K=8
+// uniform_mix=0.1 tile=8) are the tile design pcbench had before, bit for bit: one cache point per
+// tile at the first hit, its P mixed with uniform, deeper vertices uniform (guide=first).
 #include "estimators/scene/pcbpt.h"
 
 #include <oneapi/tbb/parallel_for.h>

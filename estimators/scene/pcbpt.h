@@ -1,11 +1,11 @@
 // Probabilistic connections (pcbpt.cpp), configurable for its ablations and its negative control
-// (ctl_scene_visible_only.cpp). The defaults are the published design; the comments name the
-// legacy value of each choice (the tile design pcbench had before: cache=tile-first-hit,
-// lookup=tile, cache_importance=connection, visibility=ignored, light_tracing=M, nee=draws,
-// M=1024, K=8, uniform_mix=0.1, mis=balance), which reproduces that estimator bit for bit. Four
-// defaults are pcbench's own, on measurement (README "pcbpt's parameters"): nee=fresh, K = 8,
-// M = 128 and light_tracing=M; the published values are nee=draws, K = 3, a larger pool and
-// light_tracing=pixels.
+// (ctl_scene_visible_only.cpp). The defaults are the published design except four that are
+// pcbench's own, on measurement (README "pcbpt's parameters"): nee=fresh, K = 8, M = 128 and
+// light_tracing=M, where the published design has nee=draws, K = 3, a larger pool (1024 here
+// before) and light_tracing=pixels. The comments name the legacy value of each choice (the tile
+// design pcbench had before: cache=tile-first-hit, lookup=tile, cache_importance=connection,
+// visibility=ignored, light_tracing=M, nee=draws, M=1024, K=8, uniform_mix=0.1, mis=balance),
+// which reproduces that estimator bit for bit.
 #pragma once
 
 #include <cstdint>
@@ -16,7 +16,8 @@
 namespace pcbench::scene {
 
 struct PcbptConfig {
-  // M: light paths whose vertices are the connections' candidates (legacy 1024).
+  // M: light paths whose vertices are the connections' candidates (published design and legacy
+  // 1024 here).
   std::uint32_t light_paths = 128;
   // Light tracing (t = 1) from W·H paths as BDPT splats (the pool is max(M, W·H) and its first
   // M paths are the candidates: the published design), or from the M candidates only (legacy,
