@@ -41,21 +41,21 @@ ParamSpec number_spec(std::string name, ParamType type, std::string value, doubl
 
 std::vector<ParamSpec> pcbpt_params() {
   const PcbptConfig d;
-  const ParamSpec mix = number_spec(
-      "uniform_mix", ParamType::kReal, to_text(d.uniform_mix), 0.0, 1.0, std::nullopt,
-      "defensive share of every draw spread uniformly over the light vertices");
+  const ParamSpec mix =
+      number_spec("uniform_mix", ParamType::kReal, to_text(d.uniform_mix), 0.0, 1.0, std::nullopt,
+                  "defensive share of every draw spread uniformly over the light vertices");
   ParamSpec grid = tile_spec(d.grid);
   grid.name = "grid";
   grid.description =
       "cache=every-depth: pixels per side of the block one cache path is traced "
       "through";
   grid.omitted_from_id_at = to_text(std::int64_t{d.grid});
-  const ParamSpec nearest =
-      number_spec("Nc", ParamType::kInt, std::to_string(d.nearest), 1, NearestCachePoints::kMaxFound,
-                  std::to_string(d.nearest), "lookup=nearest: cache points a camera vertex mixes");
-  const ParamSpec floor = number_spec(
-      "floor", ParamType::kReal, to_text(d.visibility_floor), 0.0, 1.0, to_text(0.0),
-      "visibility=cache-point: factor of an occluded entry's importance (0: exact)");
+  const ParamSpec nearest = number_spec("Nc", ParamType::kInt, std::to_string(d.nearest), 1,
+                                        NearestCachePoints::kMaxFound, std::to_string(d.nearest),
+                                        "lookup=nearest: cache points a camera vertex mixes");
+  const ParamSpec floor =
+      number_spec("floor", ParamType::kReal, to_text(d.visibility_floor), 0.0, 1.0, to_text(0.0),
+                  "visibility=cache-point: factor of an occluded entry's importance (0: exact)");
   ParamSpec m = light_paths_spec(d.light_paths);
   m.description = "light paths whose vertices are the connections' candidates";
   return {

@@ -6,8 +6,7 @@
 namespace pcbench::scene {
 
 ResamplingCounts::ResamplingCounts(std::span<const CachePoint> points, std::uint32_t light_paths,
-                                   std::uint32_t draws, double uniform_mix,
-                                   bool next_event_drawn)
+                                   std::uint32_t draws, double uniform_mix, bool next_event_drawn)
     : points_(points),
       m_(light_paths),
       k_(draws),
