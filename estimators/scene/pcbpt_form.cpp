@@ -16,9 +16,10 @@ namespace pcbench {
 namespace scene {
 namespace {
 
-// A choice added after runs were recorded: at `legacy` it is left out of the run's id.
+// A choice; one added after runs were recorded is left out of the run's id at `legacy` (none:
+// always in the id).
 ParamSpec choice_spec(std::string name, std::string value, std::vector<std::string> choices,
-                      std::string legacy, std::string description) {
+                      std::optional<std::string> legacy, std::string description) {
   return {.name = std::move(name),
           .type = ParamType::kChoice,
           .default_value = std::move(value),
@@ -72,23 +73,18 @@ std::vector<ParamSpec> pcbpt_params() {
                   "from its block's at its depth, or is its own cache point (exact: the "
                   "dense-cache limit, N_v importances and shadow rays per camera vertex)"),
       nearest,
-      {.name = "guide",
-       .type = ParamType::kChoice,
-       .default_value = d.guide_all ? "all" : "first",
-       .description = "lookup=tile: a vertex deeper than its block's cache points draws "
-                      "uniformly (first) or from the first hit's P (all)",
-       .choices = {"first", "all"}},
+      choice_spec("guide", d.guide_all ? "all" : "first", {"first", "all"}, std::nullopt,
+                  "lookup=tile: a vertex deeper than its block's cache points draws "
+                  "uniformly (first) or from the first hit's P (all)"),
       choice_spec("cache_importance", "light", {"light", "connection", "weighted"}, "connection",
                   "a light vertex's importance at a cache point: its contribution without "
                   "the camera-side BSDF (light), the whole connection value (connection), or "
                   "that value MIS-weighted (weighted)"),
-      {.name = "visibility",
-       .type = ParamType::kChoice,
-       .default_value = d.cache_visibility ? "cache-point" : "ignored",
-       .description = "importance times the cache point's visibility of the light vertex "
-                      "(cache-point: one shadow ray per cache point and light vertex), or "
-                      "unoccluded (ignored)",
-       .choices = {"ignored", "cache-point"}},
+      choice_spec("visibility", d.cache_visibility ? "cache-point" : "ignored",
+                  {"ignored", "cache-point"}, std::nullopt,
+                  "importance times the cache point's visibility of the light vertex "
+                  "(cache-point: one shadow ray per cache point and light vertex), or "
+                  "unoccluded (ignored)"),
       floor,
       choice_spec("light_tracing", d.light_tracing_pixels ? "pixels" : "M", {"pixels", "M"}, "M",
                   "light tracing from max(M, W·H) paths as BDPT splats, or from the M "
