@@ -71,7 +71,7 @@ def main():
     suite = json.load(open(args.suite))
     runs = {r["id"]: r for r in report["runs"]}
     # The runs of the honest comparisons (negative controls may keep their own budget).
-    fitted = {c[k] for c in report["comparisons"] if c["test"] == "tile-welch-holm"
+    fitted = {c[k] for c in report["comparisons"] if c["test"] == "block-pyramid"
               and c["expect"] == "consistent" for k in ("a", "b") if c[k] in runs}
     pilot_samples = {runs[i]["samples"] for i in fitted}
     if len(pilot_samples) != 1:
@@ -80,7 +80,7 @@ def main():
 
     scenes = {}
     for c in report["comparisons"]:
-        if c["test"] != "tile-welch-holm" or c["a"].endswith("+injected"):
+        if c["test"] != "block-pyramid" or c["a"].endswith("+injected"):
             continue
         if c["expect"] != "consistent":
             continue

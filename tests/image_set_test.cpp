@@ -17,6 +17,7 @@
 
 #include "base/rng.h"
 #include "harness/plan/image_set.h"
+#include "harness/verify/block_pyramid.h"
 #include "test_support.h"
 
 namespace pcbench {
@@ -99,9 +100,15 @@ TEST_F(ImageSetVerify, EachFormatAgainstTheExactConstant) {
     ASSERT_EQ(r.status, 0) << name << ": " << r.out << r.err;
     const nlohmann::json report = report_at(at(name + "-report"));
     const auto& c = report["comparisons"];
-    ASSERT_EQ(c.size(), 2u);
+    // The comparison, then one 2×MDB self-check per scale of its pyramid, each flagged.
+    const std::size_t scales = c[0]["scales"].size();
+    EXPECT_EQ(scales, pyramid_block_sizes(kSize, kSize, 8).size());
+    ASSERT_EQ(c.size(), 1 + scales);
     EXPECT_EQ(c[0]["result"], "consistent") << name;
-    EXPECT_EQ(c[1]["result"], "biased") << name << ": the 2xMDB self-check";
+    for (std::size_t s = 1; s <= scales; ++s) {
+      EXPECT_EQ(c[s]["result"], "biased") << name << ": the 2xMDB self-check at scale " << s;
+      EXPECT_EQ(c[s]["scales"].size(), scales);
+    }
     const auto& sets = report["image_sets"];
     EXPECT_EQ(sets["files"].size(), kReplicates);
     EXPECT_EQ(sets["width"], kSize);
@@ -173,6 +180,12 @@ TEST_F(ImageSetVerify, BadInputExitsTwoAndWritesNothing) {
       {{"--images", at("nothing-*.exr").string(), "--constant", "1"}, "matches no file"},
       {{"--images", set, "--reference-stderr", first, "--constant", "1"}, "--reference-image"},
       {{"-e", "plain", "-i", "cornell", "--constant", "1"}, "go with --images"},
+      {{"--images", set, "--constant", "1", "--require-mdb", "image=1.5"},
+       "not a fraction in (0, 1)"},
+      {{"--images", set, "--constant", "1", "--require-mdb", "24=0.05"},
+       "not a scale of the pyramid"},
+      {{"--images", set, "--constant", "1", "--require-mdb", "whole=0.05"}, "tile (the finest"},
+      {{"--images", set, "--constant", "1", "--require-mdb", "image"}, "SCALE=FRACTION"},
   };
   for (const auto& [args, message] : cases) {
     std::vector<std::string> command = {"verify"};
@@ -184,6 +197,32 @@ TEST_F(ImageSetVerify, BadInputExitsTwoAndWritesNothing) {
     // Not even the folder: it is made only once the input has been read and checked.
     EXPECT_FALSE(fs::exists(at("out"))) << message;
   }
+}
+
+// `--images renders/*.exr` unquoted: the shell hands pcbench every file as its own word, which
+// is the same set as the quoted pattern; several words after --against are a set too.
+TEST_F(ImageSetVerify, SeveralFilesAsTheShellExpandsAGlob) {
+  const std::string set = write_set("expanded", "exr", OIIO::TypeDesc::FLOAT);
+  const std::string other = write_set("expanded-other", "exr", OIIO::TypeDesc::FLOAT, 1.0, 8);
+  std::vector<std::string> command = {"verify", "--images"};
+  std::vector<std::string> against = {"--against"};
+  for (std::uint32_t r = 0; r < kReplicates; ++r) {
+    command.push_back((fs::path(set) / fmt::format("r{}.exr", r)).string());
+    against.push_back((fs::path(other) / fmt::format("r{}.exr", r)).string());
+  }
+  command.insert(command.end(), against.begin(), against.end());
+  command.insert(command.end(), {"-q", "--out", at("expanded-report").string()});
+  const CliResult r = cli(command);
+  ASSERT_EQ(r.status, 0) << r.out << r.err;
+  const nlohmann::json report = report_at(at("expanded-report"));
+  EXPECT_EQ(report["image_sets"]["files"].size(), kReplicates);
+  EXPECT_EQ(report["image_sets"]["against"]["files"].size(), kReplicates);
+  // With --estimates, --against is one file.
+  const CliResult estimates = cli({"verify", "--estimates", "a.csv", "--against", "b.csv", "c.csv",
+                                   "-q", "--out", at("estimates").string()});
+  EXPECT_EQ(estimates.status, 2);
+  EXPECT_NE(estimates.err.find("--against takes one file of estimates"), std::string::npos)
+      << estimates.err;
 }
 
 // A NaN pixel is a defect, never dropped: its tile fails (exit 1), and the report and the

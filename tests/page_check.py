@@ -234,7 +234,15 @@ def matrix_problems(report, seen):
         for x in range(c["tile_columns"]):
             for y in range(c["tile_rows"]):
                 marks.setdefault(f"{x},{y}", "")
-        for x, y, _ in c["tiles_differing"]:
+        # The finest scale's tiles, and the tiles of the blocks that differ at the coarsest scale.
+        tiles = {(x, y) for x, y, _ in c["tiles_differing"]}
+        for scale in c.get("scales") or []:
+            if scale["block"] == c.get("coarsest_differing_block"):
+                per = scale["block"] // c["scales"][0]["block"]
+                tiles |= {(x, y) for bx, by, _ in scale["blocks_differing"]
+                          for x in range(bx * per, min((bx + 1) * per, c["tile_columns"]))
+                          for y in range(by * per, min((by + 1) * per, c["tile_rows"]))}
+        for x, y in tiles:
             kind = "expected" if c["expect"] == "biased" else "unexpected"
             if marks[f"{x},{y}"] != "unexpected":
                 marks[f"{x},{y}"] = kind

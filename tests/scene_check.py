@@ -99,8 +99,11 @@ def main():
                       "%s on %s flagged by %d of %d honest runs" % (
                           control, scene, len(flagged), len(honest_runs)))
             injected = [c for c in on_scene if c["a"].endswith("+injected")]
-            check(len(injected) == 1 and injected[0]["result"] == "biased",
-                  "%s: a bias of 2x the reported tile MDB in one tile is flagged" % scene)
+            scales = len(injected[0]["scales"]) if injected else 0
+            check(len(injected) == scales and scales > 0 and
+                  all(c["result"] == "biased" for c in injected),
+                  "%s: a bias of 2x the reported MDB in one block of each of the %d scales is "
+                  "flagged" % (scene, scales))
             if power:
                 honest = [c for c in on_scene if c["expect"] == "consistent" and
                           not c["a"].endswith("+injected") and

@@ -71,14 +71,20 @@ def family_power(pcbench, folder):
         check(False, "the reproduction wrote a report")
         return
     m = tested_verdicts(report)
-    tiles = [c for c in report["comparisons"] if c["test"] == "tile-welch-holm"]
-    share = ALPHA / (m * TILE_TESTS_32)
-    check(len(tiles) > 0 and all(abs(c["tile_alpha_share"] - share) <= 1e-12 * share
-                                 for c in tiles),
-          f"all {len(tiles)} tile comparisons state the per-tile share alpha / (m T) = "
-          f"{ALPHA} / ({m} x {TILE_TESTS_32})")
+    tiles = [c for c in report["comparisons"] if c["test"] == "block-pyramid"]
+    # 32x32 images: a pyramid of blocks of 8, 16 and 32 pixels (48, 12 and 3 tests); each scale's
+    # share is alpha / (m L n_s).
+    scales = [(8, TILE_TESTS_32), (16, 12), (32, 3)]
+    check(len(tiles) > 0 and all(
+        [(s["block"], s["tests"]) for s in c["scales"]] == scales and
+        all(abs(s["alpha_share"] - ALPHA / (m * 3 * n)) <= 1e-12 * ALPHA / (m * 3 * n)
+            for s, (_, n) in zip(c["scales"], scales)) and
+        c["tile_alpha_share"] == c["scales"][0]["alpha_share"] for c in tiles),
+          f"all {len(tiles)} block comparisons test scales {scales} and state each scale's "
+          f"share alpha / (m L n_s) = {ALPHA} / ({m} x 3 x n_s)")
     injected = [c for c in tiles if c["a"].endswith("+injected")]
-    check(len(injected) == len(SCENES), f"one 2xMDB self-check per scene ({len(injected)})")
+    check(len(injected) == 3 * len(SCENES),
+          f"one 2xMDB self-check per scene and scale ({len(injected)})")
     for c in injected:
         check(c["result"] == "biased",
               f"{c['integrand']}: {c['estimator']} flagged (family-adjusted p = "
@@ -102,7 +108,7 @@ def controls_alone(pcbench, folder):
               all(r["integrand"] == scene for r in report["runs"]),
               f"{control} ran with its partner on {scene}: {estimators}")
         caught = [c for c in report["comparisons"]
-                  if c["test"] == "tile-welch-holm" and control in c["estimator"]]
+                  if c["test"] == "block-pyramid" and control in c["estimator"]]
         check(len(caught) == 1 and caught[0]["result"] == "biased" and
               caught[0]["expect"] == "biased",
               f"{control} flagged by the tile comparison with plain "

@@ -153,6 +153,25 @@ TEST(SuiteFileParse, StrategyImagesIsABooleanOffByDefault) {
   }
 }
 
+TEST(SuiteFileParse, RequireMdbSetsScaleRequirementsOnTopOfTheDefaults) {
+  const std::string row = std::string(kGoodRow);
+  const SuiteRequest suite = parse_suite(
+      R"({"require_mdb": {"image": 0.02, "32": 0.05}, "runs": [)" + row + "]}", "suite.json");
+  EXPECT_EQ(suite.scale_requirements.at(128, false, true), 0.02);
+  EXPECT_EQ(suite.scale_requirements.at(32, false, false), 0.05);
+  EXPECT_EQ(suite.scale_requirements.at(8, true, false), 0.05);  // the default stays
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {R"({"image": 1.5})", "suite.json: /require_mdb/image: the required detectable bias"},
+      {R"({"whole": 0.01})", "suite.json: /require_mdb/whole: scale 'whole' is not one of"},
+      {R"({"image": "1%"})", "suite.json: /require_mdb/image: must be a finite number"},
+      {R"([0.01])", "suite.json: /require_mdb: must be an object"}};
+  for (const auto& [value, expected] : bad) {
+    const std::string message =
+        suite_error(R"({"require_mdb": )" + value + R"(, "runs": [)" + row + "]}");
+    EXPECT_TRUE(contains(message, expected)) << value << ": " << message;
+  }
+}
+
 TEST(SuiteFileParse, UnknownDefaultsKeyNamesPointerAndValidKeys) {
   const std::string message =
       suite_error(R"({"defaults": {"sample": 10}, "runs": [)" + std::string(kGoodRow) + "]}");

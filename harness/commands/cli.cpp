@@ -27,6 +27,7 @@
 #include "harness/run/replicate_farm.h"
 #include "harness/session/session.h"
 #include "harness/session/shard.h"
+#include "harness/verify/block_pyramid.h"
 #include "results/context.h"
 
 namespace pcbench {
@@ -50,13 +51,17 @@ struct RunArguments {
   bool resume = false;
   std::string shard;  // --shard i/n
   std::string reference_cache = kDefaultReferenceCache;
+  std::vector<std::string> require_mdb;  // --require-mdb SCALE=FRACTION, repeatable
   // verify only
   bool verify = false;
   double alpha = kDefaultAlpha;
   bool exact = false;
   ExternalRequest external;
   ImageSetRequest images;  // --images SET (its --against is external.against)
-  std::string crop;        // --crop X,Y,W,H
+  // --images and --against as given: each takes several words (the files of an unquoted glob
+  // that the shell expanded), joined into one comma-separated list by gather_file_lists.
+  std::vector<std::string> image_files, against_files;
+  std::string crop;  // --crop X,Y,W,H
 };
 
 // Numbers and choices never contain commas, so for them a comma separates grid values.
@@ -185,6 +190,28 @@ unsigned thread_count(const RunArguments& args) {
   return args.threads > 0 ? args.threads : static_cast<unsigned>(tbb::info::default_concurrency());
 }
 
+// --images and --against as the one set each names: several words (a glob the shell expanded)
+// become a comma-separated list. --against with --estimates takes one file.
+void gather_file_lists(RunArguments& args) {
+  args.images.images = join_names(args.image_files, ",");
+  if (args.against_files.empty()) return;
+  if (args.against_files.size() > 1 && args.image_files.empty()) {
+    throw InputError(fmt::format(
+        "command line: --against takes one file of estimates, not {} ({}); several files are "
+        "an image set, which goes with --images",
+        args.against_files.size(), join_names(args.against_files, " ")));
+  }
+  args.external.against = join_names(args.against_files, ",");
+}
+
+// `base` with the command line's --require-mdb on top.
+ScaleRequirements with_requirements(ScaleRequirements base, const RunArguments& args) {
+  for (const std::string& assignment : args.require_mdb) {
+    base.set(assignment, "command line: --require-mdb");
+  }
+  return base;
+}
+
 // Threads, output, argv and the interrupt flag, as every command that writes a report uses them.
 SessionOptions session_options(const RunArguments& args, const std::vector<std::string>& argv,
                                const std::atomic<bool>* interrupted) {
@@ -201,6 +228,7 @@ SessionOptions session_options(const RunArguments& args, const std::vector<std::
   session.strategy_images = args.strategy_images;
   session.replicate_images = args.replicate_images;
   if (!args.out_dir.empty()) session.out_dir = args.out_dir;
+  session.scale_requirements = with_requirements(session.scale_requirements, args);
   return session;
 }
 
@@ -294,9 +322,13 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     session.compare_pairwise = suite.compare_pairwise;
     session.interleave = session.interleave || suite.interleave;
     session.strategy_images = session.strategy_images || suite.strategy_images;
+    session.scale_requirements = with_requirements(suite.scale_requirements, args);
   } else {
     grids = grids_from_flags(args);
   }
+  session.scale_requirements.check_blocks(
+      PyramidOptions{}.tile, args.suite_path.empty() ? "command line: --require-mdb"
+                                                     : args.suite_path + " or --require-mdb");
   // Options given on the command line override the suite's defaults and its rows.
   if (run_app.count("--samples")) budget.forced_samples = args.samples;
   if (run_app.count("--seconds")) {
@@ -416,6 +448,12 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_option("--shard", args.shard,
                   "i/n: run share i (0 to n-1) of n of the planned runs into --out DIR's journal, "
                   "no report; `pcbench merge` the n folders for it");
+  app->add_option("--require-mdb", args.require_mdb,
+                  "SCALE=FRACTION, repeatable: the largest detectable bias a scene comparison must "
+                  "reach at a scale of its block pyramid, relative to a bright block's mean; "
+                  "SCALE is tile, image or a block edge in pixels (default tile=0.05, "
+                  "image=0.01)")
+      ->take_all();
   add_reference_cache_option(app, args);
 }
 
@@ -626,12 +664,17 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
                      "the run to take from a pcbench report given to --estimates");
   verify->add_option("--reference", verify_args.external.reference,
                      "with --estimates: the value to test against, V or V±U (also V+-U)");
-  verify->add_option("--against", verify_args.external.against,
-                     "with --estimates: a second estimates file, tested two-sample (Welch); with "
-                     "--images: a second independent image set, tested per tile");
-  verify->add_option("--images", verify_args.images.images,
-                     "replicate images from any renderer (EXR, HDR or PFM): a folder, a glob or "
-                     "a comma-separated list, one seed per image");
+  verify
+      ->add_option("--against", verify_args.against_files,
+                   "with --estimates: a second estimates file, tested two-sample (Welch); with "
+                   "--images: a second independent image set, tested block by block (as --images)")
+      ->take_all();
+  verify
+      ->add_option("--images", verify_args.image_files,
+                   "replicate images from any renderer (EXR, HDR or PFM), one seed per image: "
+                   "files (several, as an unquoted glob expands), a folder, a quoted glob or a "
+                   "comma-separated list")
+      ->take_all();
   verify->add_option("--reference-image", verify_args.images.reference_image,
                      "with --images: a converged reference image");
   verify->add_option("--reference-stderr", verify_args.images.reference_stderr,
@@ -731,7 +774,10 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       print_registry(out, list_json);
       return kExitOk;
     }
-    if (verify->parsed()) return run_command(verify_args, *verify, argv, out, err, interrupted);
+    if (verify->parsed()) {
+      gather_file_lists(verify_args);
+      return run_command(verify_args, *verify, argv, out, err, interrupted);
+    }
     if (calibrate_app->parsed()) {
       return calibrate_command_line(calibration, calibrate_args, *calibrate_app, argv, out, err,
                                     interrupted);

@@ -12,10 +12,11 @@
 #include "base/errors.h"
 #include "harness/session/publish.h"
 #include "harness/session/report.h"
+#include "harness/verify/block_pyramid.h"
+#include "harness/verify/block_verdicts.h"
 #include "harness/verify/image_statistics.h"
 #include "harness/verify/report_compare.h"
 #include "harness/verify/scene_verification.h"
-#include "harness/verify/tile_checks.h"
 #include "results/exr_file.h"
 
 namespace pcbench {
@@ -131,6 +132,7 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
     throw InputError("command line: --reference-stderr goes with --reference-image");
   }
   if (request.tile == 0) throw InputError("command line: --tile must be at least 1");
+  options.scale_requirements.check_blocks(request.tile, "command line: --require-mdb");
   if (request.expect != "consistent" && request.expect != "biased") {
     throw InputError(
         fmt::format("command line: --expect '{}': consistent or biased", request.expect));
@@ -173,49 +175,44 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
                "exact"};
   }
 
-  // Two verdicts in the family: the comparison and its self-check.
-  const TileOptions tiles{.tile = request.tile, .family_size = 2};
+  // The family: the comparison and its self-checks, one per scale.
+  const std::size_t scales = pyramid_block_sizes(like.width, like.height, request.tile).size();
+  const PyramidOptions blocks{.tile = request.tile,
+                              .family_size = static_cast<std::uint32_t>(1 + scales)};
   const auto test = [&](const std::vector<Image>& images) {
-    if (other) return compare_tiles(images, other->images, options.alpha, tiles);
+    if (other) return compare_blocks(images, other->images, options.alpha, blocks);
     if (reference_stderr) {
-      return test_tiles_against_reference(images, *reference, *reference_stderr, options.alpha,
-                                          tiles);
+      return test_blocks_against_reference(images, *reference, *reference_stderr, options.alpha,
+                                           blocks);
     }
-    return test_tiles_against_exact(images, *reference, options.alpha, tiles);
+    return test_blocks_against_exact(images, *reference, options.alpha, blocks);
   };
-  const TileTestResult result = test(set.images);
-  const TileTest& brightest = brightest_tile(result);
-  const double injected = 2.0 * brightest.min_detectable_bias;
-  const TileTestResult shifted =
-      test(with_tile_bias(set.images, brightest, request.tile, injected));
+  const ScaleRequirements& requirements = options.scale_requirements;
+  const PyramidResult result = test(set.images);
+  const std::vector<BlockSelfCheck> checks = pyramid_self_checks(result, set.images, test);
 
-  Verdict verdict = tile_verdict(result, request.expect);
-  Verdict self_check = tile_verdict(shifted, "biased");
-  std::vector<Verdict*> family = {&verdict, &self_check};
+  const std::string label = "images vs " + against.label;
+  std::vector<Verdict> verdicts = {pyramid_verdict(result, requirements, request.expect)};
+  std::vector<Comparison> comparisons = {pyramid_comparison(result, requirements, "images",
+                                                            against.id, label, "images",
+                                                            set.images.size(), request.expect)};
+  for (const BlockSelfCheck& check : checks) {
+    verdicts.push_back(pyramid_verdict(check.result, requirements, "biased"));
+    comparisons.push_back(pyramid_comparison(check.result, requirements, "images+injected",
+                                             against.id, label + check.label(), "images",
+                                             set.images.size(), "biased"));
+  }
+  std::vector<Verdict*> family;
+  for (Verdict& v : verdicts) family.push_back(&v);
   decide_family(family, options.alpha);
-  if (result.worst_bright_relative_mdb < quantisation) {
-    verdict.reason += fmt::format(
+  if (result.scales.front().worst_bright_relative_mdb < quantisation) {
+    verdicts.front().reason += fmt::format(
         "; the detectable tile bias is below the worst-case quantisation bias of the pixel "
         "format ({:.3g}%): a difference that small may be the format's rounding",
         100.0 * quantisation);
   }
-
-  const std::string label = "images vs " + against.label;
-  std::vector<Comparison> comparisons = {
-      tile_comparison(result, "images", against.id, label, "images", set.images.size(),
-                      request.expect),
-      tile_comparison(
-          shifted, "images+injected", against.id,
-          label + fmt::format(" (tile {},{} channel {} + 2×MDB = {:.3g})", brightest.tile_x,
-                              brightest.tile_y, brightest.channel, injected),
-          "images", set.images.size(), "biased")};
   for (std::size_t i = 0; i < comparisons.size(); ++i) {
-    const Verdict& v = *family[i];
-    comparisons[i].p_adjusted = v.p_adjusted;
-    comparisons[i].alpha = v.alpha;
-    comparisons[i].result = v.result;
-    comparisons[i].reason = v.reason;
-    comparisons[i].min_detectable_difference = v.min_detectable_bias;
+    finish_comparison(comparisons[i], verdicts[i]);
   }
 
   warn_about_values(set, err);

@@ -12,6 +12,7 @@
 #include <optional>
 #include <ostream>
 #include <set>
+#include <span>
 #include <stdexcept>
 #include <tuple>
 
@@ -21,9 +22,10 @@
 #include "harness/plan/plan.h"
 #include "harness/run/runner.h"
 #include "harness/session/report.h"
+#include "harness/verify/block_checks.h"
+#include "harness/verify/block_pyramid.h"
 #include "harness/verify/image_statistics.h"
 #include "harness/verify/statistics.h"
-#include "harness/verify/tile_checks.h"
 
 namespace pcbench {
 namespace {
@@ -64,8 +66,8 @@ struct CurveSpec {
 
 // What a power curve needs of one seed.
 struct PowerSeed {
-  std::size_t tile_index = 0;  // into TileTestResult::tiles
-  TileTest tile = {};          // the injected tile as the unbiased comparison saw it
+  std::size_t tile_index = 0;  // into ScaleTests::tiles
+  BlockTest tile = {};         // the injected tile as the unbiased comparison saw it
   double mdb = kNaN, stderr_of_difference = kNaN, multiplier = kNaN;
   std::vector<bool> detected, tile_detected;              // per k: k × this seed's MDB
   std::vector<double> predicted;                          // per k
@@ -83,13 +85,21 @@ struct RowSeed {
   double min_p_adjusted = kNaN;
   double bright_relative_mdb = kNaN;
   std::uint32_t tests = 0;
-  TileTest fixed = {};  // the centre tile's test, whose p-values are KS-tested
+  BlockTest fixed = {};  // the centre tile's test, whose p-values are KS-tested
 };
 
 struct SeedOutcome {
   std::vector<RowSeed> rows;     // per comparison
   std::vector<PowerSeed> power;  // per curve
 };
+
+// The tile tests alone: the finest scale of the block pyramid, decided as a family of its own.
+ScaleTests compare_tiles(std::span<const Image> a, std::span<const Image> b, double alpha) {
+  return compare_blocks(a, b, alpha, {.max_scales = 1}).scales.front();
+}
+ScaleTests test_tiles_against_exact(std::span<const Image> a, const Image& exact, double alpha) {
+  return test_blocks_against_exact(a, exact, alpha, {.max_scales = 1}).scales.front();
+}
 
 // NaN when some value is (an unknown detectable bias must not read as a small one).
 double median(std::vector<double> values) {
@@ -103,19 +113,19 @@ double median(std::vector<double> values) {
 }
 
 // The test of the tile holding the image centre, in kFixedChannel.
-const TileTest& centre_tile(const TileTestResult& t, std::uint32_t width, std::uint32_t height) {
-  const std::uint32_t size = TileOptions{}.tile;
+const BlockTest& centre_tile(const ScaleTests& t, std::uint32_t width, std::uint32_t height) {
+  const std::uint32_t size = PyramidOptions{}.tile;
   const std::uint32_t tx = (width / 2) / size, ty = (height / 2) / size;
-  const auto it = std::find_if(t.tiles.begin(), t.tiles.end(), [&](const TileTest& x) {
-    return x.tile_x == tx && x.tile_y == ty && x.channel == kFixedChannel;
+  const auto it = std::find_if(t.tests.begin(), t.tests.end(), [&](const BlockTest& x) {
+    return x.x == tx && x.y == ty && x.channel == kFixedChannel;
   });
-  if (it == t.tiles.end()) throw std::logic_error("tile calibration: no centre tile");
+  if (it == t.tests.end()) throw std::logic_error("tile calibration: no centre tile");
   return *it;
 }
 
 // The injected tile's own test rejects at Holm's first threshold (which the MDB is computed at).
-bool tile_rejects(const TileTestResult& t, std::size_t index, double share) {
-  return t.tiles.at(index).p_value <= share;
+bool tile_rejects(const ScaleTests& t, std::size_t index, double share) {
+  return t.tests.at(index).p_value <= share;
 }
 
 void validate(const TileCalibrationOptions& o) {
@@ -234,11 +244,11 @@ std::vector<Image> render(const RunPlan& plan, std::uint64_t seed,
 }
 
 // The pixels of `tile` in every image: a tile_size × tile_size image (less at the border).
-std::vector<Image> crop(const std::vector<Image>& images, const TileTest& tile) {
-  const std::uint32_t size = TileOptions{}.tile;
+std::vector<Image> crop(const std::vector<Image>& images, const BlockTest& tile) {
+  const std::uint32_t size = PyramidOptions{}.tile;
   std::vector<Image> out;
   for (const Image& image : images) {
-    const std::uint32_t x0 = tile.tile_x * size, y0 = tile.tile_y * size;
+    const std::uint32_t x0 = tile.x * size, y0 = tile.y * size;
     Image c(std::min(size, image.width - x0), std::min(size, image.height - y0));
     for (std::uint32_t y = 0; y < c.height; ++y) {
       for (std::uint32_t x = 0; x < c.width; ++x) {
@@ -264,29 +274,29 @@ struct Decision {
 // <= α. inject_own_mdb checks on every seed that this is the whole comparison's decision.
 Decision decide_on_crop(const PowerSeed& p, double bias, std::uint32_t tests, double share,
                         double alpha) {
-  TileTest local = p.tile;
-  local.tile_x = local.tile_y = 0;
-  const TileTestResult t =
-      compare_tiles(with_tile_bias(p.crop_a, local, TileOptions{}.tile, bias), p.crop_b, alpha);
+  BlockTest local = p.tile;
+  local.x = local.y = 0;
+  const ScaleTests t =
+      compare_tiles(with_block_bias(p.crop_a, local, PyramidOptions{}.tile, bias), p.crop_b, alpha);
   Decision d;
-  d.tile_p = t.tiles.at(p.tile.channel).p_value;
+  d.tile_p = t.tests.at(p.tile.channel).p_value;
   d.tile = d.tile_p <= share;
   d.family = std::min(1.0, std::min(p.other_min_p, d.tile_p) * static_cast<double>(tests)) <= alpha;
   return d;
 }
 
 // k × the seed's own reported MDB of tile `index` into a's images, for every k.
-PowerSeed inject_own_mdb(const TileTestResult& t, std::size_t index, const std::vector<Image>& a,
+PowerSeed inject_own_mdb(const ScaleTests& t, std::size_t index, const std::vector<Image>& a,
                          const std::vector<Image>& b, const TileCalibrationOptions& options) {
   // The comparison is decided alone, so its tile threshold is Holm's first, α / T, and the
   // reported MDB is m × the tile's standard error with m at that threshold.
-  const double share = options.test_alpha / static_cast<double>(t.tests);
+  const double share = options.test_alpha / static_cast<double>(t.tests.size());
   PowerSeed p;
   p.tile_index = index;
-  p.tile = t.tiles.at(index);
-  const TileTest& tile = p.tile;
+  p.tile = t.tests.at(index);
+  const BlockTest& tile = p.tile;
   p.mdb = tile.min_detectable_bias;
-  p.multiplier = detectable_multiplier(share, tile.dof, TileOptions{}.power);
+  p.multiplier = detectable_multiplier(share, tile.dof, PyramidOptions{}.power);
   p.stderr_of_difference = p.mdb / p.multiplier;
   // The MDB must be the one this decision implies, the statistic's own standard error times m;
   // otherwise the power below would be predicted for another threshold.
@@ -300,18 +310,20 @@ PowerSeed inject_own_mdb(const TileTestResult& t, std::size_t index, const std::
   }
   p.crop_a = crop(a, tile);
   p.crop_b = crop(b, tile);
-  for (std::size_t k = 0; k < t.tiles.size(); ++k) {
-    if (k != index) p.other_min_p = std::min(p.other_min_p, t.tiles[k].p_value);
+  for (std::size_t k = 0; k < t.tests.size(); ++k) {
+    if (k != index) p.other_min_p = std::min(p.other_min_p, t.tests[k].p_value);
   }
   for (const double k : options.bias_multipliers) {
-    const TileTestResult shifted = compare_tiles(
-        with_tile_bias(a, tile, TileOptions{}.tile, k * p.mdb), b, options.test_alpha);
-    p.detected.push_back(shifted.rejected);
+    const ScaleTests shifted = compare_tiles(
+        with_block_bias(a, tile, PyramidOptions{}.tile, k * p.mdb), b, options.test_alpha);
+    p.detected.push_back(shifted.min_p_adjusted <= options.test_alpha);
     p.tile_detected.push_back(tile_rejects(shifted, index, share));
     // A tile known exactly detects any bias.
     p.predicted.push_back(p.mdb > 0.0 ? shifted_t_power(k * p.multiplier, tile.dof, share) : 1.0);
-    const Decision cropped = decide_on_crop(p, k * p.mdb, t.tests, share, options.test_alpha);
-    if (cropped.tile_p != shifted.tiles[index].p_value || cropped.family != shifted.rejected) {
+    const Decision cropped = decide_on_crop(
+        p, k * p.mdb, static_cast<std::uint32_t>(t.tests.size()), share, options.test_alpha);
+    if (cropped.tile_p != shifted.tests[index].p_value ||
+        cropped.family != (shifted.min_p_adjusted <= options.test_alpha)) {
       throw std::logic_error("tile calibration: the cropped tile does not decide as the image");
     }
   }
@@ -360,8 +372,8 @@ TileSizeRow size_row(const ComparisonSpec& spec, std::size_t r,
   }
   const RowSeed& first = outcomes.front().rows[r];
   row.tests = first.tests;
-  row.fixed_tile_x = first.fixed.tile_x;
-  row.fixed_tile_y = first.fixed.tile_y;
+  row.fixed_tile_x = first.fixed.x;
+  row.fixed_tile_y = first.fixed.y;
   row.fixed_channel = first.fixed.channel;
   std::vector<double> bright;
   for (const SeedOutcome& o : outcomes) {
@@ -400,7 +412,7 @@ TilePowerCurve power_curve(const CurveSpec& spec, std::size_t c, const TileSizeR
     if (tile_mean > 0.0) relative.push_back(p.mdb / tile_mean);
     se2 += p.stderr_of_difference * p.stderr_of_difference;
     statistic += p.tile.statistic;
-    ++tiles[{p.tile.tile_x, p.tile.tile_y, p.tile.channel}];
+    ++tiles[{p.tile.x, p.tile.y, p.tile.channel}];
   }
   const double seeds = static_cast<double>(outcomes.size());
   curve.median_mdb = median(mdbs);
@@ -495,16 +507,16 @@ TileCalibrationResult calibrate_tiles(const TileCalibrationOptions& options) {
       }
     }
     SeedOutcome& out = outcomes[i];
-    std::vector<TileTestResult> tests;
+    std::vector<ScaleTests> tests;
     for (const ComparisonSpec& spec : specs) {
       const std::vector<Image>& a = images[spec.scene][spec.a];
-      const TileTestResult t =
+      const ScaleTests t =
           spec.b < 0 ? test_tiles_against_exact(a, *scenes[spec.scene].exact, options.test_alpha)
                      : compare_tiles(a, images[spec.scene][static_cast<std::size_t>(spec.b)],
                                      options.test_alpha);
       out.rows.push_back({.min_p_adjusted = t.min_p_adjusted,
                           .bright_relative_mdb = t.worst_bright_relative_mdb,
-                          .tests = t.tests,
+                          .tests = static_cast<std::uint32_t>(t.tests.size()),
                           .fixed = centre_tile(t, a.front().width, a.front().height)});
       tests.push_back(t);
     }
@@ -512,12 +524,12 @@ TileCalibrationResult calibrate_tiles(const TileCalibrationOptions& options) {
       const ComparisonSpec& spec = specs[curve.row];
       const std::vector<Image>& a = images[spec.scene][spec.a];
       const std::vector<Image>& b = images[spec.scene][static_cast<std::size_t>(spec.b)];
-      const TileTestResult& t = tests[curve.row];
-      const TileTest& tile = curve.rule == InjectionRule::kBrightest
-                                 ? brightest_tile(t)
-                                 : centre_tile(t, a.front().width, a.front().height);
+      const ScaleTests& t = tests[curve.row];
+      const BlockTest& tile = curve.rule == InjectionRule::kBrightest
+                                  ? brightest_block(t)
+                                  : centre_tile(t, a.front().width, a.front().height);
       out.power.push_back(
-          inject_own_mdb(t, static_cast<std::size_t>(&tile - t.tiles.data()), a, b, options));
+          inject_own_mdb(t, static_cast<std::size_t>(&tile - t.tests.data()), a, b, options));
     }
   });
 
@@ -663,8 +675,8 @@ nlohmann::ordered_json tile_calibration_json(const TileCalibrationResult& result
   j["seeds"] = o.seeds;
   j["first_seed"] = o.first_seed;
   j["test_alpha"] = o.test_alpha;
-  j["tile"] = TileOptions{}.tile;
-  j["power"] = TileOptions{}.power;
+  j["tile"] = PyramidOptions{}.tile;
+  j["power"] = PyramidOptions{}.power;
   j["pass_threshold"] = o.pass_threshold;
   j["pass"] = result.pass;
   j["rows"] = std::move(rows);

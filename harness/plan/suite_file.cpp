@@ -12,8 +12,9 @@ namespace {
 
 using Json = JsonInput::Json;
 
-const std::vector<std::string> kTopKeys = {"name", "description", "defaults",   "runs",
-                                           "grid", "compare",     "interleave", "strategy_images"};
+const std::vector<std::string> kTopKeys = {
+    "name",    "description", "defaults",        "runs",       "grid",
+    "compare", "interleave",  "strategy_images", "require_mdb"};
 const std::vector<std::string> kDefaultsKeys = {"samples", "seconds", "replicates", "seed"};
 const std::vector<std::string> kRowKeys = {"estimator", "integrand",  "params", "samples",
                                            "seconds",   "replicates", "expect"};
@@ -38,6 +39,15 @@ class SuiteParser {
     }
     if (root.contains("strategy_images")) {
       suite.strategy_images = in_.boolean_at(root["strategy_images"], "/strategy_images");
+    }
+    if (root.contains("require_mdb")) {
+      const Json& requirements = root["require_mdb"];
+      in_.require_object(requirements, "/require_mdb");
+      for (const auto& [scale, value] : requirements.items()) {
+        const std::string pointer = JsonInput::member("/require_mdb", scale);
+        suite.scale_requirements.set(scale, in_.number_at(value, pointer),
+                                     fmt::format("{}: {}", in_.source(), pointer));
+      }
     }
     if (root.contains("defaults")) {
       const Json& defaults = root["defaults"];

@@ -2,7 +2,7 @@
 //   {"name", "description", "defaults": {"samples", "replicates", "seed"},
 //    "runs": [{"estimator", "integrand", "params": {..}, "samples", "replicates", "expect"}],
 //    "grid": [{"estimator": [..], "integrand": [..], "params": {"M": [..]}, ...}],
-//    "compare", "interleave", "strategy_images"}
+//    "compare", "interleave", "strategy_images", "require_mdb": {"tile": 0.05, "image": 0.01}}
 // Errors name the file, the JSON pointer of the offending value and the valid keys.
 #pragma once
 
@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "harness/plan/plan.h"
+#include "harness/plan/scale_requirements.h"
 
 namespace pcbench {
 
@@ -29,6 +30,9 @@ struct SuiteRequest {
   bool interleave = false;
   // "strategy_images": true: scene runs also write their per-strategy images (--strategy-images).
   bool strategy_images = false;
+  // "require_mdb": {SCALE: FRACTION}: what a scene comparison's block pyramid must detect at each
+  // scale (harness/plan/scale_requirements.h), on top of the defaults.
+  ScaleRequirements scale_requirements = {};
 };
 
 SuiteRequest parse_suite(const std::string& text, const std::string& file_name);

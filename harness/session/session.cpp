@@ -17,6 +17,7 @@
 #include "harness/session/publish.h"
 #include "harness/session/report.h"
 #include "harness/session/summary.h"
+#include "harness/verify/block_verdicts.h"
 #include "harness/verify/efficiency_ratio.h"
 #include "harness/verify/report_compare.h"
 #include "harness/verify/rounding_bound.h"
@@ -194,7 +195,7 @@ std::vector<std::pair<Comparison, Verdict>> pairwise_comparisons(
         continue;
       }
       if (!all_pairs && a.result.reference.kind != ReferenceKind::kNone) continue;
-      // Scenes are compared tile by tile instead (scene_tile_comparisons).
+      // Scenes are compared block by block instead (scene_block_comparisons).
       if (a.plan->render) continue;
       const int biased = a.plan->estimator->biased + b.plan->estimator->biased;
       if (biased == 2) continue;
@@ -311,10 +312,11 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   std::size_t tested = 0;
   for (const RunRecord& record : records) tested += record.verdict && record.verdict->tested;
   for (const auto& [comparison, verdict] : comparisons) tested += verdict.tested;
-  // Scenes are always checked tile by tile: these tests decide whether estimators agree. Their
-  // power is stated at the threshold of the family they join.
-  for (auto& tile : scene_tile_comparisons(records, family_alpha, tested)) {
-    comparisons.push_back(std::move(tile));
+  // Scenes are always checked by their block pyramids: these tests decide whether estimators
+  // agree. Their power is stated at the threshold of the family they join.
+  for (auto& blocks :
+       scene_block_comparisons(records, family_alpha, tested, options.scale_requirements)) {
+    comparisons.push_back(std::move(blocks));
   }
   std::vector<Verdict*> family;
   for (RunRecord& record : records) family.push_back(record.verdict ? &*record.verdict : nullptr);
@@ -354,11 +356,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
   ReportSections sections;
   std::vector<Comparison> finished;
   for (auto& [comparison, verdict] : comparisons) {
-    comparison.p_adjusted = verdict.p_adjusted;
-    comparison.alpha = verdict.alpha;
-    comparison.result = verdict.result;
-    comparison.reason = verdict.reason;
-    comparison.min_detectable_difference = verdict.min_detectable_bias;
+    finish_comparison(comparison, verdict);
     finished.push_back(comparison);
   }
   sections.comparisons = comparisons_json(finished);
@@ -370,6 +368,7 @@ int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options
                          c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect),
                          c.reason);
     }
+    for (const std::string& line : scene_power_lines(finished)) out << "  " << line << "\n";
     if (options.interleave) print_efficiency_ratios(sections.efficiency_ratios, out);
   }
   bool published = false;

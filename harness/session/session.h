@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "harness/plan/plan.h"
+#include "harness/plan/scale_requirements.h"
 #include "harness/run/replicate_farm.h"
 #include "harness/run/run_store.h"
 #include "harness/verify/reference_cache.h"
@@ -56,6 +57,9 @@ struct SessionOptions {
   // Scene runs also write each replicate image (images/<id>_rep<k>.exr), for other tools and
   // for `verify --images`.
   bool replicate_images = false;
+  // What each scale of a scene comparison's block pyramid must detect (a suite's "require_mdb",
+  // --require-mdb).
+  ScaleRequirements scale_requirements = {};
   std::vector<std::string> argv;
   const std::atomic<bool>* interrupted = nullptr;
   // `--resume`: the interrupted session's journal, already checked against the plans. Its done

@@ -9,12 +9,13 @@
 #include <span>
 
 #include "base/errors.h"
-#include "harness/verify/image_statistics.h"
+#include "harness/verify/block_pyramid.h"
 
 namespace pcbench {
 namespace {
 
 using Json = nlohmann::ordered_json;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 Json finite_or_null(double value) {
   return std::isfinite(value) ? Json(value) : Json(nullptr);
@@ -147,6 +148,65 @@ ComparisonOutcome compare_report_files(const std::filesystem::path& a,
   return compare_reports(report_a, report_b, alpha, a.string(), b.string());
 }
 
+namespace {
+
+// A block comparison's fields: every scale with its power and requirement, and the tiles' figures
+// under their earlier names (tile_*: the finest scale, which the page's map draws).
+Json scales_json(const Comparison& c) {
+  const std::vector<Comparison::BlockP> differing = blocks_differing(c);
+  Json scales = Json::array();
+  double factor = 0.0;  // the largest over the scales with a requirement
+  bool met = true;
+  std::optional<std::uint32_t> coarsest;
+  for (std::uint32_t s = 0; s < c.scales.size(); ++s) {
+    const Comparison::Scale& scale = c.scales[s];
+    Json blocks = Json::array();
+    for (const Comparison::BlockP& t : differing) {
+      if (t.scale == s) blocks.push_back(Json::array({t.x, t.y, t.channel}));
+    }
+    if (!blocks.empty()) coarsest = scale.block;
+    Json entry{{"block", scale.block},
+               {"columns", scale.columns},
+               {"rows", scale.rows},
+               {"tests", scale.tests},
+               {"bright_tests", scale.bright_tests},
+               {"alpha_share", scale.alpha_share},
+               {"relative_mdb", finite_or_null(scale.relative_mdb)},
+               {"required_mdb", nullptr},
+               {"meets_requirement", nullptr},
+               {"samples_factor_for_required_mdb", nullptr},
+               {"min_p_adjusted", finite_or_null(scale.min_p_adjusted)},
+               {"blocks_differing", blocks}};
+    if (scale.required_mdb) {
+      const double f = samples_factor(scale.relative_mdb, *scale.required_mdb);
+      const bool meets = scale.relative_mdb <= *scale.required_mdb;  // false for NaN
+      entry["required_mdb"] = *scale.required_mdb;
+      entry["meets_requirement"] = meets;
+      entry["samples_factor_for_required_mdb"] = finite_or_null(f);
+      met = met && meets;
+      factor = std::isnan(f) || std::isnan(factor) ? kNaN : std::max(factor, f);
+    }
+    scales.push_back(std::move(entry));
+  }
+  const Comparison::Scale& tiles = c.scales.front();
+  Json tiles_differing = Json::array();
+  for (const Comparison::BlockP& t : differing) {
+    if (t.scale == 0) tiles_differing.push_back(Json::array({t.x, t.y, t.channel}));
+  }
+  return Json{{"tile_relative_mdb", finite_or_null(tiles.relative_mdb)},
+              {"bright_tiles", tiles.bright_tests},
+              {"tile_alpha_share", tiles.alpha_share},
+              {"tile_columns", tiles.columns},
+              {"tile_rows", tiles.rows},
+              {"tiles_differing", tiles_differing},
+              {"samples_factor_for_required_mdb", finite_or_null(factor)},
+              {"requirements_met", met},
+              {"coarsest_differing_block", coarsest ? Json(*coarsest) : Json(nullptr)},
+              {"scales", scales}};
+}
+
+}  // namespace
+
 nlohmann::ordered_json comparison_json(const Comparison& c) {
   Json out{{"a", c.a},
            {"b", c.b},
@@ -168,29 +228,16 @@ nlohmann::ordered_json comparison_json(const Comparison& c) {
            {"replicates_a", c.replicates_a},
            {"replicates_b", c.replicates_b},
            {"min_detectable_difference", finite_or_null(c.min_detectable_difference)}};
-  if (c.tile_relative_mdb) {
-    out["tile_relative_mdb"] = finite_or_null(*c.tile_relative_mdb);
-    out["samples_factor_for_required_mdb"] =
-        finite_or_null(tile_samples_factor(*c.tile_relative_mdb));
-    out["bright_tiles"] = c.bright_tiles;
-    out["tile_alpha_share"] = c.tile_alpha_share;
-    out["tile_columns"] = c.tile_columns;
-    out["tile_rows"] = c.tile_rows;
-    Json differing = Json::array();
-    for (const Comparison::TileP& t : tiles_differing(c)) {
-      differing.push_back(Json::array({t.x, t.y, t.channel}));
-    }
-    out["tiles_differing"] = differing;
-  }
+  if (!c.scales.empty()) out.update(scales_json(c));
   return out;
 }
 
-std::vector<Comparison::TileP> tiles_differing(const Comparison& c) {
-  std::vector<Comparison::TileP> out;
+std::vector<Comparison::BlockP> blocks_differing(const Comparison& c) {
+  std::vector<Comparison::BlockP> out;
   if (c.result != "biased") return out;
-  // p_value is the smallest tile's p; 0 (a non-finite tile) leaves no factor to scale by.
+  // p_value is the smallest block's p; 0 (a non-finite block) leaves no factor to scale by.
   const double factor = c.p_value > 0.0 ? c.p_adjusted / c.p_value : 1.0;
-  for (const Comparison::TileP& t : c.tile_p_values) {
+  for (const Comparison::BlockP& t : c.block_p_values) {
     if (t.p_adjusted <= c.p_value || t.p_adjusted * factor <= c.alpha) out.push_back(t);
   }
   return out;

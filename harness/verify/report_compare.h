@@ -42,28 +42,33 @@ struct Comparison {
   // The |mean_a - mean_b| this test detects with 80% power at the Bonferroni share alpha / m: a
   // "consistent" result rules out differences about this large, not smaller ones.
   double min_detectable_difference = 0.0;
-  // Scene tile tests: the largest detectable tile bias relative to the tile mean over the tiles
-  // brighter than 10% of the image mean (the power requirement is <= 5%), and their count.
-  std::optional<double> tile_relative_mdb = {};
-  std::uint32_t bright_tiles = 0;
-  // Scene tile tests: the per-tile share of alpha that figure is computed at, alpha / (m × T)
-  // with m the session family's tested verdicts and T the comparison's tile×channel tests.
-  double tile_alpha_share = 0.0;
-  // Scene tile tests: every tile×channel test's Holm-adjusted p within the comparison, kept for
-  // the map of the tiles that differ (comparison_json writes only those, once the family has
-  // decided), and the tile grid.
-  struct TileP {
-    std::uint32_t x = 0, y = 0, channel = 0;
+  // Scene block tests (harness/verify/block_pyramid.h): each scale of the pyramid, finest first,
+  // and every block×channel test's within-comparison adjusted p, kept for the maps of the blocks
+  // that differ (comparison_json writes only those, once the family has decided).
+  struct Scale {
+    std::uint32_t block = 0, columns = 0, rows = 0, tests = 0;
+    // Bright block×channel tests (block mean >= 10% of the image mean of the channel).
+    std::uint32_t bright_tests = 0;
+    // The largest detectable bias relative to a bright block's mean, at the share of alpha
+    // `alpha_share` = alpha / (m × L × n_s) that decides (m the session family's tested verdicts,
+    // L the scales, n_s this scale's tests).
+    double relative_mdb = 0.0;
+    double alpha_share = 0.0;
+    double min_p_adjusted = 1.0;  // within the comparison
+    std::optional<double> required_mdb = {};
+  };
+  std::vector<Scale> scales = {};
+  struct BlockP {
+    std::uint32_t scale = 0, x = 0, y = 0, channel = 0;
     double p_adjusted = 1.0;
   };
-  std::vector<TileP> tile_p_values = {};
-  std::uint32_t tile_columns = 0, tile_rows = 0;
+  std::vector<BlockP> block_p_values = {};
 };
 
-// The tiles of a tile comparison that differ: those whose within-comparison Holm-adjusted p,
-// scaled by the family's factor for this comparison (p_adjusted / p_value), is <= alpha. A
-// biased comparison has at least its smallest-p tile; any other result has none.
-std::vector<Comparison::TileP> tiles_differing(const Comparison& c);
+// The blocks of a block comparison that differ, at every scale: those whose within-comparison
+// adjusted p, scaled by the family's factor for this comparison (p_adjusted / p_value), is <=
+// alpha. A biased comparison has at least its smallest-p block; any other result has none.
+std::vector<Comparison::BlockP> blocks_differing(const Comparison& c);
 
 // A run id present in both reports but not compared, and why (a run not ok, < 2 replicates).
 struct UncomparedRun {

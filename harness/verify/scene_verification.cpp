@@ -8,10 +8,11 @@
 #include <optional>
 #include <span>
 
+#include "harness/verify/block_checks.h"
+#include "harness/verify/block_verdicts.h"
 #include "harness/verify/image_errors.h"
 #include "harness/verify/image_statistics.h"
 #include "harness/verify/strategy_image_file.h"
-#include "harness/verify/tile_checks.h"
 #include "integrands/scenes/scene_integrand.h"
 #include "results/exr_file.h"
 
@@ -38,53 +39,14 @@ bool samples_all_paths(const RunRecord& r, const scene::Scene& s) {
 
 }  // namespace
 
-Verdict tile_verdict(const TileTestResult& t, std::string expect) {
-  Verdict v;
-  v.test = "tile-welch-holm";
-  v.p_value = t.min_p_adjusted;
-  v.tested = true;
-  v.expect = std::move(expect);
-  const double factor = tile_samples_factor(t.worst_bright_relative_mdb);
-  v.reason = fmt::format(
-      "{} tile×channel tests, smallest Holm-adjusted p {:.3g}; detectable tile bias ≤ {:.2f}% "
-      "of the tile mean on {} bright tiles at the family's per-tile threshold {:.3g} (required "
-      "≤ {:.0f}%{})",
-      t.tests, t.min_p_adjusted, 100.0 * t.worst_bright_relative_mdb, t.bright_tiles,
-      t.detection_share, 100.0 * kMaxBrightRelativeMdb,
-      std::isnan(factor) ? ""
-      : factor > 1.0     ? fmt::format(": met at about {:.3g}× the samples per pixel", factor)
-                         : ": met");
-  return v;
-}
-
-Comparison tile_comparison(const TileTestResult& t, std::string a, std::string b, std::string label,
-                           std::string integrand, std::size_t replicates_a, std::string expect) {
-  Comparison c;
-  c.a = std::move(a);
-  c.b = std::move(b);
-  c.test = "tile-welch-holm";
-  c.estimator = std::move(label);
-  c.integrand = std::move(integrand);
-  c.p_value = t.min_p_adjusted;
-  c.expect = std::move(expect);
-  c.replicates_a = replicates_a;
-  c.tile_relative_mdb = t.worst_bright_relative_mdb;
-  c.tile_alpha_share = t.detection_share;
-  c.bright_tiles = t.bright_tiles;
-  for (const TileTest& tile : t.tiles) {
-    c.tile_p_values.push_back({tile.tile_x, tile.tile_y, tile.channel, tile.p_adjusted});
-    c.tile_columns = std::max(c.tile_columns, tile.tile_x + 1);
-    c.tile_rows = std::max(c.tile_rows, tile.tile_y + 1);
-  }
-  return c;
-}
-
 namespace {
 
-Comparison tile_comparison(const RunRecord& a, std::string b_id, std::string b_name,
-                           const TileTestResult& t, std::string expect) {
-  return tile_comparison(t, a.plan->id, std::move(b_id), a.plan->estimator->name + " vs " + b_name,
-                         a.plan->integrand->name, a.result.images.size(), std::move(expect));
+Comparison block_comparison(const RunRecord& a, std::string b_id, std::string b_name,
+                            const PyramidResult& t, const ScaleRequirements& requirements,
+                            std::string expect) {
+  return pyramid_comparison(t, requirements, a.plan->id, std::move(b_id),
+                            a.plan->estimator->name + " vs " + b_name, a.plan->integrand->name,
+                            a.result.images.size(), std::move(expect));
 }
 
 // Closest-hit and shadow rays per CPU second over the run (all threads' CPU time).
@@ -111,19 +73,19 @@ const RunRecord* best_other(const std::vector<std::pair<double, const RunRecord*
 
 namespace {
 
-// One tile test a session's scene runs call for: run a against run b, or against the exact
-// image (b null); `inject` marks the pair that also carries the scene's self-check.
-struct PlannedTileTest {
+// One pyramid a session's scene runs call for: run a against run b, or against the exact image
+// (b null); `inject` marks the pair that also carries the scene's self-checks.
+struct PlannedPyramid {
   const RunRecord* a = nullptr;
   const RunRecord* b = nullptr;
   bool inject = false;
 };
 
-// Every tile test of the session's scene runs, in report order, before any is computed: the
-// count fixes the family size that every detectable bias is computed at.
-std::vector<PlannedTileTest> plan_tile_tests(const std::vector<RunRecord>& records) {
-  std::vector<PlannedTileTest> planned;
-  std::map<const IntegrandEntry*, bool> injected;  // one self-check per scene
+// Every pyramid of the session's scene runs, in report order, before any is computed: the count
+// fixes the family size that every detectable bias is computed at.
+std::vector<PlannedPyramid> plan_pyramids(const std::vector<RunRecord>& records) {
+  std::vector<PlannedPyramid> planned;
+  std::map<const IntegrandEntry*, bool> injected;  // one set of self-checks per scene
   for (std::size_t i = 0; i < records.size(); ++i) {
     const RunRecord& a = records[i];
     const SceneIntegrand* scene = scene_of(a);
@@ -143,52 +105,56 @@ std::vector<PlannedTileTest> plan_tile_tests(const std::vector<RunRecord>& recor
   return planned;
 }
 
-std::size_t family_members(const std::vector<PlannedTileTest>& planned) {
-  return static_cast<std::size_t>(std::count_if(
-             planned.begin(), planned.end(), [](const PlannedTileTest& t) { return t.inject; })) +
-         planned.size();
+// The pyramids and the self-checks, one per scale of the scene's images.
+std::size_t family_members(const std::vector<PlannedPyramid>& planned) {
+  std::size_t members = planned.size();
+  for (const PlannedPyramid& p : planned) {
+    if (!p.inject) continue;
+    const Image& like = p.a->result.images.front();
+    members += pyramid_block_sizes(like.width, like.height, PyramidOptions{}.tile).size();
+  }
+  return members;
 }
 
 }  // namespace
 
-std::vector<std::pair<Comparison, Verdict>> scene_tile_comparisons(
-    const std::vector<RunRecord>& records, double alpha, std::size_t other_tested) {
-  const std::vector<PlannedTileTest> planned = plan_tile_tests(records);
-  const TileOptions options{.family_size =
-                                static_cast<std::uint32_t>(other_tested + family_members(planned))};
+std::vector<std::pair<Comparison, Verdict>> scene_block_comparisons(
+    const std::vector<RunRecord>& records, double alpha, std::size_t other_tested,
+    const ScaleRequirements& requirements) {
+  const std::vector<PlannedPyramid> planned = plan_pyramids(records);
+  const PyramidOptions options{
+      .family_size = static_cast<std::uint32_t>(other_tested + family_members(planned))};
   std::vector<std::pair<Comparison, Verdict>> out;
-  for (const PlannedTileTest& p : planned) {
+  for (const PlannedPyramid& p : planned) {
     const RunRecord& a = *p.a;
     const SceneIntegrand& scene = *scene_of(a);
     if (p.b == nullptr) {
-      const TileTestResult t =
-          test_tiles_against_exact(a.result.images, *exact_image(scene), alpha, options);
+      const PyramidResult t =
+          test_blocks_against_exact(a.result.images, *exact_image(scene), alpha, options);
       const std::string expect = a.plan->estimator->biased ? "biased" : "consistent";
-      out.emplace_back(tile_comparison(a, "exact", "exact", t, expect), tile_verdict(t, expect));
+      out.emplace_back(block_comparison(a, "exact", "exact", t, requirements, expect),
+                       pyramid_verdict(t, requirements, expect));
       continue;
     }
     const RunRecord& b = *p.b;
-    const TileTestResult t = compare_tiles(a.result.images, b.result.images, alpha, options);
+    const auto test = [&](const std::vector<Image>& images) {
+      return compare_blocks(images, b.result.images, alpha, options);
+    };
+    const PyramidResult t = test(a.result.images);
     const bool biased = a.plan->estimator->biased || b.plan->estimator->biased;
     const std::string expect = biased ? "biased" : "consistent";
-    out.emplace_back(tile_comparison(a, b.plan->id, b.plan->estimator->name, t, expect),
-                     tile_verdict(t, expect));
-    // The verifier's own check: a bias of twice the reported detectable size (at the family's
-    // threshold), put into the brightest tested tile of one honest run, must be flagged.
-    if (p.inject && !t.tiles.empty()) {
-      const TileTest& brightest = brightest_tile(t);
-      const double bias = 2.0 * brightest.min_detectable_bias;
-      const TileTestResult shifted =
-          compare_tiles(with_tile_bias(a.result.images, brightest, options.tile, bias),
-                        b.result.images, alpha, options);
-      Comparison c = tile_comparison(
-          a, b.plan->id,
-          b.plan->estimator->name + fmt::format(" (tile {},{} channel {} + 2×MDB = {:.3g})",
-                                                brightest.tile_x, brightest.tile_y,
-                                                brightest.channel, bias),
-          shifted, "biased");
+    out.emplace_back(
+        block_comparison(a, b.plan->id, b.plan->estimator->name, t, requirements, expect),
+        pyramid_verdict(t, requirements, expect));
+    if (!p.inject) continue;
+    // The verifier's own checks: at every scale, a bias of twice the reported detectable size
+    // (at the family's threshold), put into the brightest block of one honest run, must be
+    // flagged.
+    for (const BlockSelfCheck& check : pyramid_self_checks(t, a.result.images, test)) {
+      Comparison c = block_comparison(a, b.plan->id, b.plan->estimator->name + check.label(),
+                                      check.result, requirements, "biased");
       c.a += "+injected";
-      out.emplace_back(std::move(c), tile_verdict(shifted, "biased"));
+      out.emplace_back(std::move(c), pyramid_verdict(check.result, requirements, "biased"));
     }
   }
   return out;

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 
 #include "harness/run/diagnostics.h"
 #include "harness/run/tally.h"
@@ -103,6 +104,34 @@ std::vector<double> holm_adjusted(std::span<const double> p_values) {
     running_max =
         std::max(running_max, std::min(1.0, p_values[order[k]] * static_cast<double>(m - k)));
     adjusted[order[k]] = running_max;
+  }
+  return adjusted;
+}
+
+std::vector<double> weighted_holm_adjusted(std::span<const double> p_values,
+                                           std::span<const double> weights) {
+  const std::size_t m = p_values.size();
+  if (weights.size() != m) {
+    throw std::invalid_argument(
+        fmt::format("{} p-values and {} weights", p_values.size(), weights.size()));
+  }
+  for (double w : weights) {
+    if (!(w > 0.0)) throw std::invalid_argument(fmt::format("weight {} is not positive", w));
+  }
+  std::vector<std::size_t> order(m);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) {
+    return p_values[i] / weights[i] < p_values[j] / weights[j];
+  });
+  // The weight still in play at each step: the sum over the tests not yet rejected.
+  std::vector<double> remaining(m + 1, 0.0);
+  for (std::size_t k = m; k-- > 0;) remaining[k] = remaining[k + 1] + weights[order[k]];
+  std::vector<double> adjusted(m);
+  double running_max = 0.0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::size_t i = order[k];
+    running_max = std::max(running_max, std::min(1.0, p_values[i] / weights[i] * remaining[k]));
+    adjusted[i] = running_max;
   }
   return adjusted;
 }
@@ -373,11 +402,12 @@ void decide_family(std::vector<Verdict*>& verdicts, double alpha) {
     v.p_adjusted = adjusted[i];
     const bool reject = v.p_adjusted <= alpha;
     v.result = reject ? "biased" : "consistent";
-    if (v.test == "tile-welch-holm") {
-      // A scene's tile test (harness/verify/scene_verification.h): its p-value is already the Holm
-      // minimum over tiles and channels, its reason says what was tested and with what power.
+    if (v.test == kBlockPyramidTest) {
+      // A scene's block pyramid (harness/verify/block_verdicts.h): its p-value is already the
+      // adjusted minimum over its blocks, scales and channels, its reason says what was tested
+      // and with what power.
       v.reason = fmt::format("{} (family Holm-adjusted p = {:.3g} {} alpha = {}): {}",
-                             reject ? "some tile differs" : "no tile differs", v.p_adjusted,
+                             reject ? "some block differs" : "no block differs", v.p_adjusted,
                              reject ? "<=" : ">", alpha, v.reason);
       v.min_detectable_bias = kNaN;
       v.min_detectable_bias_vs_mean_abs = kNaN;

@@ -61,6 +61,10 @@ std::vector<SeriesPoint> convergence_series(const std::vector<ReplicateResult>& 
                                             const Reference& reference);
 double rmse_slope(const std::vector<SeriesPoint>& series);
 
+// The test name of a scene's block pyramid (harness/verify/block_verdicts.h) in verdicts and
+// reports.
+inline constexpr const char* kBlockPyramidTest = "block-pyramid";
+
 struct Verdict {
   std::string test;  // "student_t", "welch", "none"
   double statistic = 0.0;
@@ -171,6 +175,14 @@ Verdict two_sample_verdict(const TwoSampleTest& test, std::string expect);
 // Holm's step-down adjusted p-values, in the order of `p_values`:
 // p_adj(i) = max over j <= i of min(1, (m - j + 1) p_(j)) with p_(1) <= ... <= p_(m).
 std::vector<double> holm_adjusted(std::span<const double> p_values);
+
+// The weighted Holm procedure (Holm 1979, with weights w_i > 0 summing to 1): with the tests
+// ordered by p_i / w_i, p_adj(i) = max over j <= i of min(1, p_(j) / w_(j) × Σ_{k >= j} w_(k)).
+// Rejecting p_adj <= alpha holds the family-wise error at alpha, and a test of weight w is held
+// to alpha × w at the first step. Equal weights give holm_adjusted. Throws std::invalid_argument
+// for spans of different lengths or a weight that is not positive.
+std::vector<double> weighted_holm_adjusted(std::span<const double> p_values,
+                                           std::span<const double> weights);
 
 // t_{1 - share/2, dof} + t_{power, dof}: times a test's standard error, the smallest difference a
 // two-sided test at level `share` detects with probability `power` (normal-theory approximation

@@ -56,6 +56,27 @@ def verdict_matrix(report):
     return rows, columns, cells
 
 
+def tiles_marked(c):
+    """The tiles of a block comparison's map: those that differ at the finest scale, and every tile
+    inside a block that differs at the coarsest scale where some block does (a bias spread over a
+    region is often seen only there). {(x, y)} in tile coordinates."""
+    marked = {(x, y) for x, y, _ in c.get("tiles_differing") or []}
+    scales = c.get("scales") or []
+    coarsest = c.get("coarsest_differing_block")
+    if not scales or coarsest is None:
+        return marked
+    tile = scales[0]["block"]
+    for scale in scales:
+        if scale["block"] != coarsest:
+            continue
+        per = scale["block"] // tile
+        for bx, by, _ in scale.get("blocks_differing") or []:
+            for x in range(bx * per, min((bx + 1) * per, c["tile_columns"])):
+                for y in range(by * per, min((by + 1) * per, c["tile_rows"])):
+                    marked.add((x, y))
+    return marked
+
+
 def tile_maps(report):
     """{integrand: {"columns", "rows", "unexpected": {(x, y): [labels]}, "expected": {...},
     "comparisons": n}} for every integrand with tile comparisons."""
@@ -68,7 +89,7 @@ def tile_maps(report):
             "expected": {}, "comparisons": 0})
         entry["comparisons"] += 1
         kind = "expected" if c.get("expect") == "biased" else "unexpected"
-        for x, y, _channel in c.get("tiles_differing") or []:
+        for x, y in sorted(tiles_marked(c)):
             names = entry[kind].setdefault((x, y), [])
             if c.get("estimator") not in names:
                 names.append(c.get("estimator"))

@@ -12,6 +12,7 @@ import os
 
 import numpy as np
 
+from answer_view import tiles_marked
 from figure_style import new_figure, save
 from report_view import field, labels, number
 
@@ -115,7 +116,8 @@ def scene_figure(scene, runs, report_dir, path):
 def image_set_figure(report, report_dir, path):
     """`verify --images`: the set's mean, its relative standard error and its z-map against what
     it was tested with, the tiles that differ outlined in black on the z-map (the comparison's
-    tiles_differing, not its self-check's). Returns the path, or None when the report has no
+    tiles_marked: its tiles_differing and the blocks of its coarsest differing scale, not its
+    self-checks'). Returns the path, or None when the report has no
     image set."""
     sets = report.get("image_sets")
     if not isinstance(sets, dict):
@@ -151,7 +153,7 @@ def image_set_figure(report, report_dir, path):
         for c in report.get("comparisons") or []:
             if c.get("a") != "images":
                 continue
-            for x, y in {(x, y) for x, y, _ in c.get("tiles_differing") or []}:
+            for x, y in tiles_marked(c):
                 z_ax.add_patch(patches.Rectangle((x * tile - 0.5, y * tile - 0.5), tile, tile,
                                                  fill=False, edgecolor="black", linewidth=1.5))
     else:
