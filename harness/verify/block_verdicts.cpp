@@ -150,15 +150,16 @@ std::vector<std::string> scene_power_lines(const std::vector<Comparison>& compar
     bool met = true;
     for (std::size_t s = 0; s < scales.size(); ++s) {
       const Comparison::Scale& scale = scales[s];
-      std::string part = fmt::format("{} ≤ {:.3g}%", scale_label(scale.block, s + 1 == scales.size()),
-                                     100.0 * scale.relative_mdb);
+      std::string part =
+          fmt::format("{} ≤ {:.3g}%", scale_label(scale.block, s + 1 == scales.size()),
+                      100.0 * scale.relative_mdb);
       if (scale.required_mdb) {
         const double factor = samples_factor(scale.relative_mdb, *scale.required_mdb);
         const bool meets = scale.relative_mdb <= *scale.required_mdb;
         met = met && meets;
-        part += fmt::format(" (required ≤ {:.3g}%: {})", 100.0 * *scale.required_mdb,
-                            meets ? "met"
-                                  : fmt::format("missed, {:.3g}× the samples per pixel", factor));
+        part += fmt::format(
+            " (required ≤ {:.3g}%: {})", 100.0 * *scale.required_mdb,
+            meets ? "met" : fmt::format("missed, {:.3g}× the samples per pixel", factor));
       }
       parts.push_back(std::move(part));
     }
