@@ -46,7 +46,7 @@ const TilePowerPoint& point_at(const TilePowerCurve& curve, double k) {
 //    not below the prediction (its 99.9% Wilson upper end >= the prediction: 1e-3 each). It is
 //    above it: the largest tile mean of a favours tiles whose noise in a is positive, so the
 //    unbiased statistic there is not centred (mean_statistic ~0.4) and a positive bias is found
-//    more often than the MDB promises (README, Calibration);
+//    more often than the MDB promises (docs/guide/verification.md, "Which tile");
 //  - at k = 2 both curves detect in at least 90% of the seeds (predicted > 0.99: with 100 seeds,
 //    10 misses or more have probability < 1e-4 each);
 //  - a detection is the family's, so never rarer than the tile's own.
@@ -275,7 +275,7 @@ TEST(TileCalibration, BadOptionsAreInputErrors) {
 }
 
 // The full form: the defaults (32×32, 4 spp × 8 replicates, 1000 seeds). Same checks and error
-// budget as the short form. Prints the tables quoted in the README.
+// budget as the short form. Prints the tables quoted in docs/findings/tile-calibration.md.
 TEST(TileCalibrationFull, DefaultOptions) {
   const TileCalibrationResult result = calibrate_tiles({});
   print_tile_calibration(result, std::cout);
