@@ -2,7 +2,7 @@
 // (harness/verify/block_pyramid.h): the largest detectable bias relative to a bright block's mean.
 // By default the whole image must see 1% and the finest blocks (8×8 tiles) 5%; a suite's
 // "require_mdb" or the command line's --require-mdb SCALE=FRACTION changes one scale or adds
-// another (INTERFACE.md, "Scene verification").
+// another (docs/reference/INTERFACE.md, `test: "block-pyramid"`).
 #pragma once
 
 #include <cstdint>
