@@ -52,7 +52,8 @@ std::vector<EstimatorEntry> make_table() {
 // The estimators of scenes only. Rows registered later (register_scene_estimator) go after.
 std::vector<EstimatorEntry>& scene_table() {
   static std::vector<EstimatorEntry> table = {
-      pt_entry(), lt_entry(), ctl_scene_visible_only_entry(), ctl_scene_lvc_per_vertex_entry()};
+      pt_entry(), lt_entry(), ctl_scene_visible_only_entry(), ctl_scene_lvc_per_vertex_entry(),
+      ctl_scene_nee_count_entry()};
   return table;
 }
 

@@ -9,7 +9,8 @@
 //   - the walks' bookkeeping (pdf_fwd, pdf_rev, beta) matches the path.
 // The densities and contributions here are computed from the vertex positions, apart from
 // path_vertex.cpp and connection.cpp. Last, every honest estimator renders the built-in furnace
-// to its exact radiance (SceneRenderFurnace), and the image does not depend on the thread count.
+// to its exact radiance (SceneRenderFurnace), and the image does not depend on the thread count;
+// and ctl-scene-nee-count's mistake is exactly the one it declares (SceneRenderControl).
 //
 // Error budget: only SceneRenderFurnace is statistical: 15 configurations (7 estimators and 8
 // pcbpt ablations) × 3 channels t tests, each asserting p > 1e-4, so a correct renderer fails by
@@ -368,7 +369,7 @@ std::vector<NamedEstimator> every_estimator() {
 // heuristic over the included strategies, and they sum to 1.
 void check_weights(const Scene& scene, const std::vector<FullPath>& paths) {
   const std::vector<NamedEstimator> estimators = every_estimator();
-  EXPECT_GE(estimators.size(), 9u);  // pt, lt, plain, vc-all, lvc, pcbpt, two controls, example
+  EXPECT_GE(estimators.size(), 10u);  // pt, lt, plain, vc-all, lvc, pcbpt, 3 controls, example
   std::size_t checked = 0;
   for (std::size_t n = 0; n < paths.size(); ++n) {
     const FullPath& p = paths[n];
@@ -680,6 +681,58 @@ TEST(SceneRenderFurnace, ThreadCountDoesNotChangeTheImage) {
     EXPECT_EQ(std::memcmp(images[0].data(), images[1].data(), images[0].size() * sizeof(double)),
               0);
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// A scene control's mistake, exactly
+
+// ctl-scene-nee-count is pt with its next-event estimates divided by 1 + severity: at severity 0
+// it renders pt's image bit for bit; at any other severity, from the same streams, its emitter
+// hits (s = 0) are pt's and its next-event layers (s = 1) pt's divided by 1 + severity, so the
+// image lies between pt's / (1 + severity) and pt's.
+TEST(SceneRenderControl, NeeCountIsPtWithItsNextEventsDivided) {
+  SceneDescription d = *built_in_scene("cornell");
+  d.width = d.height = 8;
+  d.max_length = 3;
+  const Scene scene(d);
+  const auto render = [&](const std::shared_ptr<const SceneEstimator>& estimator) {
+    return render_replicate(scene, *estimator, 55, 2, 2, nullptr, true);
+  };
+  const ReplicateImage pt = render(make_scene_estimator("pt"));
+  const ReplicateImage zero =
+      render(make_scene_estimator("ctl-scene-nee-count", {{"severity", "0"}}));
+  ASSERT_EQ(zero.image.values.size(), pt.image.values.size());
+  EXPECT_EQ(std::memcmp(zero.image.values.data(), pt.image.values.data(),
+                        pt.image.values.size() * sizeof(double)),
+            0);
+
+  const double severity = 0.25;
+  const ReplicateImage off =
+      render(make_scene_estimator("ctl-scene-nee-count", {{"severity", "0.25"}}));
+  ASSERT_TRUE(pt.strategies && off.strategies);
+  ASSERT_EQ(off.strategies->layers.size(), pt.strategies->layers.size());
+  double next_event = 0.0;
+  for (std::size_t l = 0; l < pt.strategies->layers.size(); ++l) {
+    const StrategyLayer& a = pt.strategies->layers[l];
+    const StrategyLayer& b = off.strategies->layers[l];
+    ASSERT_EQ(a.s, b.s);
+    ASSERT_EQ(a.t, b.t);
+    const double scale = a.s == 1 ? 1.0 / (1.0 + severity) : 1.0;
+    for (std::size_t i = 0; i < a.image.values.size(); ++i) {
+      EXPECT_NEAR(b.image.values[i], scale * a.image.values[i], 1e-12 * a.image.values[i])
+          << "s" << a.s << "_t" << a.t << " value " << i;
+      if (a.s == 1) next_event += a.image.values[i];
+    }
+  }
+  EXPECT_GT(next_event, 0.0);
+  double sum_pt = 0.0, sum_off = 0.0;
+  for (std::size_t i = 0; i < pt.image.values.size(); ++i) {
+    sum_pt += pt.image.values[i];
+    sum_off += off.image.values[i];
+    EXPECT_LE(off.image.values[i], pt.image.values[i] * (1.0 + 1e-12));
+    EXPECT_GE(off.image.values[i], pt.image.values[i] / (1.0 + severity) * (1.0 - 1e-12));
+  }
+  EXPECT_LT(sum_off, sum_pt);
 }
 
 }  // namespace

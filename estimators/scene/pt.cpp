@@ -8,49 +8,65 @@
 //     <I_j> = Σ_t [ w_{0,t} f / p_{0,t} + w_{1,t} f / p_{1,t} ],   counts n_{0,t} = n_{1,t} = 1.
 // Parameters: none. Misses point light → mirror paths (no emitter to hit, no diffuse vertex to
 // connect at), so it is no reference on scenes that have both.
+#include "estimators/scene/pt.h"
+
 #include "estimators/scene/scene_estimators.h"
 
 namespace pcbench {
+namespace scene {
 namespace {
 
-class PathTracingPass final : public scene::ScenePass {
+class PathTracingPass final : public ScenePass {
  public:
-  explicit PathTracingPass(const scene::RenderServices& services) : services_(services) {}
+  PathTracingPass(const RenderServices& services, const PtConfig& config)
+      : services_(services), config_(config) {}
 
-  scene::Rgb connections(const scene::LightPool&, scene::CameraPrefix& prefix) const override {
+  Rgb connections(const LightPool&, CameraPrefix& prefix) const override {
     // From the camera stream, where the pixel's subpath left it.
-    const scene::PathVertex emitter =
-        scene::sample_emitter_vertex(services_.scene(), prefix.camera);
-    return services_.connect_recorded(std::span(&emitter, 1), prefix);
+    const PathVertex emitter = sample_emitter_vertex(services_.scene(), prefix.camera);
+    if (config_.next_event_count == 1.0) {
+      return services_.connect_recorded(std::span(&emitter, 1), prefix);
+    }
+    // The control's mistake (ctl_scene_nee_count.cpp): one sample divided by another count.
+    const Rgb value = services_.connect(std::span(&emitter, 1), prefix) / config_.next_event_count;
+    services_.record(1, prefix, value);
+    return value;
   }
 
  private:
-  const scene::RenderServices& services_;
+  const RenderServices& services_;
+  PtConfig config_;
 };
 
-class PathTracing final : public scene::SceneEstimator {
+class PathTracing final : public SceneEstimator {
  public:
-  std::uint32_t pool_size(const scene::Scene&) const override { return 0; }
-  scene::StrategyCounts strategy_counts(const scene::Scene&) const override {
+  explicit PathTracing(const PtConfig& config) : config_(config) {}
+
+  std::uint32_t pool_size(const Scene&) const override { return 0; }
+  StrategyCounts strategy_counts(const Scene&) const override {
     return {.emitter_hit = 1.0, .next_event = 1.0, .connection = 0.0, .light_tracing = 0.0};
   }
-  bool samples_all_paths(const scene::Scene& scene) const override {
-    return !scene::needs_light_subpaths(scene);
+  bool samples_all_paths(const Scene& scene) const override { return !needs_light_subpaths(scene); }
+  std::unique_ptr<ScenePass> begin_replicate(const RenderServices& services) const override {
+    return std::make_unique<PathTracingPass>(services, config_);
   }
-  std::unique_ptr<scene::ScenePass> begin_replicate(
-      const scene::RenderServices& services) const override {
-    return std::make_unique<PathTracingPass>(services);
-  }
+
+ private:
+  PtConfig config_;
 };
 
 }  // namespace
 
+std::shared_ptr<const SceneEstimator> make_pt(const PtConfig& config) {
+  return std::make_shared<PathTracing>(config);
+}
+
+}  // namespace scene
+
 EstimatorEntry pt_entry() {
   return scene_only_entry(
       "pt", "scenes: path tracing with next-event estimation (s <= 1)",
-      {.params = {}, .make = [](const ResolvedParams&) {
-         return std::shared_ptr<const scene::SceneEstimator>(std::make_shared<PathTracing>());
-       }});
+      {.params = {}, .make = [](const ResolvedParams&) { return scene::make_pt({}); }});
 }
 
 }  // namespace pcbench

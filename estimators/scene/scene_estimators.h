@@ -25,5 +25,6 @@ EstimatorEntry pt_entry();                        // pt.cpp: path tracing
 EstimatorEntry lt_entry();                        // lt.cpp: light tracing
 EstimatorEntry ctl_scene_visible_only_entry();    // ctl_scene_visible_only.cpp
 EstimatorEntry ctl_scene_lvc_per_vertex_entry();  // ctl_scene_lvc_per_vertex.cpp
+EstimatorEntry ctl_scene_nee_count_entry();       // ctl_scene_nee_count.cpp
 
 }  // namespace pcbench
