@@ -30,7 +30,8 @@ SCENES = ["furnace", "cornell", "cornell-glossy", "door-ajar", "lampshade"]
 # and in the published one (zero visibility floor, no mixing).
 CONTROLS = [("ctl-scene-visible-only", "door-ajar", []),
             ("ctl-scene-visible-only", "door-ajar", ["-p", "design=published"]),
-            ("ctl-scene-lvc-per-vertex", "cornell", [])]
+            ("ctl-scene-lvc-per-vertex", "cornell", []),
+            ("ctl-scene-nee-count", "cornell", [])]
 
 passed = 0
 failed = 0
