@@ -1,5 +1,5 @@
-// Error kinds that decide the exit status (INTERFACE.md): bad input stops before any work and
-// exits 2; a failure inside one run is recorded in that run and the suite goes on.
+// Error kinds that decide the exit status (docs/reference/INTERFACE.md): bad input stops before any
+// work and exits 2; a failure inside one run is recorded in that run and the suite goes on.
 #pragma once
 
 #include <stdexcept>

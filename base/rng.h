@@ -20,7 +20,7 @@ using PhiloxKey = std::array<std::uint32_t, 2>;
 PhiloxCounter philox4x32_10(PhiloxCounter counter, PhiloxKey key);
 
 // What a stream of numbers is used for. Each purpose gets disjoint counters, so that no
-// resampling draw reuses the numbers that made a pool (INTERFACE.md, "Determinism").
+// resampling draw reuses the numbers that made a pool (docs/reference/INTERFACE.md, "Determinism").
 enum class StreamPurpose : std::uint8_t {
   kLightPool = 1,    // the M light paths a camera path may connect to
   kCameraPath = 2,   // the camera path y of a sample

@@ -90,7 +90,7 @@ class Estimator {
                               EstimatorScratch& scratch, std::span<double> estimates) const = 0;
 
   // Whether the per-sample estimates of one replicate are independent (no shared pool): only
-  // then is a within-replicate variance meaningful (INTERFACE.md, "replicate").
+  // then is a within-replicate variance meaningful (docs/reference/INTERFACE.md, "replicate").
   virtual bool samples_independent() const { return true; }
 };
 

@@ -1,7 +1,7 @@
 // Negative controls: estimators that are biased on purpose, each by one mistake seen in
-// practice, so that the verifier can show it catches them (issue 4, item 5). Each has a
-// `severity` in [0, 1] (0 makes it unbiased, or nearly for ctl-cached-visibility; 1 is the full
-// mistake) and declares the integrand and budget on which it must be flagged.
+// practice, so that the verifier can show it catches them. Each has a `severity` in [0, 1] (0
+// makes it unbiased, or nearly for ctl-cached-visibility; 1 is the full mistake) and declares
+// the integrand and budget on which it must be flagged.
 //
 //   ctl-cached-visibility  (a) importance = |f| at the cache point of the camera sample's cell,
 //                          with no uniform mixing: where the cache point is occluded and the

@@ -1,5 +1,6 @@
-// The estimator family of the seed note: a pool X of M light paths, K connections chosen from
-// it, and the estimate of Eq. (2)
+// The estimator family of probabilistic connections (Popov et al., "Probabilistic Connections for
+// Bidirectional Path Tracing", CGF 34(4), EGSR 2015): a pool X of M light paths, K connections
+// chosen from it, and the estimate
 //     <I> = 1/(M K) Σ_k f(x_ξk, y) / (p(x_ξk) p(y) P(ξk | y, X)).
 // One code path samples the pool, chooses connections and weights them (the choosing and
 // weighting is estimators/resampling_step.h); the estimators differ only in how they choose
@@ -17,7 +18,7 @@
 // Parameters (those an estimator reads are listed in its registry entry):
 //   M            light paths in a pool (default 16)
 //   K            draws per camera sample (default 4)
-//   pool         fresh: a new pool per camera sample (the seed's setup); shared: one pool per
+//   pool         fresh: a new pool per camera sample (the paper's setup); shared: one pool per
 //                batch of 256 camera samples, as a renderer shares one per iteration
 //   importance   approx: the integrand's cheap approximation (|f| when it has none); f: |f|
 //                itself; uniform: w = 1; cached: |f| at the cache point of the camera sample's

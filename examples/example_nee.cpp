@@ -1,5 +1,6 @@
-// example-nee (scenes only; the worked example of README "Adding a scene estimator", registered
-// in the pcbench_examples binary only): path tracing with N next-event samples per camera vertex.
+// example-nee (scenes only; the worked example of docs/dev/extending.md "Adding a scene estimator",
+// registered in the pcbench_examples binary only): path tracing with N next-event samples per
+// camera vertex.
 //
 // Estimates the image with one camera subpath per pixel and iteration and no pool: every camera
 // prefix y_0 .. y_{t-1} (t >= 2) adds its own emitter hit (strategy (0, t), 1 sample) and

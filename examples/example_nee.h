@@ -1,4 +1,4 @@
-// The worked example of README "Adding a scene estimator" (example_nee.cpp).
+// The worked example of docs/dev/extending.md "Adding a scene estimator" (example_nee.cpp).
 #pragma once
 
 #include "estimators/registry.h"

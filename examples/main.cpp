@@ -1,6 +1,6 @@
 // pcbench_examples: pcbench with the example estimators registered, so that `pcbench_examples
-// list`, `run` and `verify` know them while pcbench itself does not (README "Adding a scene
-// estimator").
+// list`, `run` and `verify` know them while pcbench itself does not (docs/dev/extending.md "Adding
+// a scene estimator").
 #include "estimators/registry.h"
 #include "examples/example_nee.h"
 #include "harness/commands/entry_point.h"

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Usage: scripts/relative_mse_table.py OUT [CHECKPOINTS] [SCENE ...]
 
-The README's equal-time tables from a finished scene session in folder OUT (its report.json and
+The equal-time tables of docs/findings/pcbpt-equal-time.md from a finished scene session in folder OUT (its report.json and
 checkpoint/): for each run, the report's relative MSE at 1 CPU s against the cached reference
 (`image.rel_mse_at_1_cpu_second` = relative MSE per replicate × CPU s per replicate, net of the
 reference's own variance; run `pcbench reference` for the scenes first, or the figure is against

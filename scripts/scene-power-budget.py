@@ -1,13 +1,15 @@
 #!/usr/bin/python3
-"""Samples per pixel for each scene run so that every tile comparison meets the power requirement.
+"""Samples per pixel for each scene run so that every block comparison meets its power requirements.
 
 Usage: /usr/bin/python3 scripts/scene-power-budget.py PILOT_REPORT SUITE [--margin 1.5]
 
 PILOT_REPORT is the report of `pcbench verify` on SUITE with every run at one pilot budget (the
-same runs, replicates and seed, so the same Holm family and the same per-tile share of alpha).
-Each tile comparison gives samples_factor_for_required_mdb = (tile_relative_mdb / 0.05)^2. The
+same runs, replicates and seed, so the same Holm family and the same shares of alpha). Each
+block comparison gives samples_factor_for_required_mdb, the largest over the scales with a
+requirement (the suite's require_mdb: by default 8x8 tiles to 5%, the whole image to 1%) of
+(relative_mdb / required_mdb)^2. The
 detectable bias of a comparison goes with its standard error, whose square is the sum of the two
-runs' tile variances, each proportional to 1 / (samples per pixel): F_ab = v_a + v_b at the pilot
+runs' block variances, each proportional to 1 / (samples per pixel): F_ab = v_a + v_b at the pilot
 budget, F_a = v_a against an exact image. Per scene, the non-negative v_e of each estimator are
 fitted to the worst case (the largest v that every comparison of e allows is not enough: v is
 set so that every comparison's F is covered, v_a + v_b >= F_ab, at the smallest total). Each run

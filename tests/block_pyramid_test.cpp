@@ -536,6 +536,8 @@ TEST(ScaleRequirements, DefaultsSettingAndTheScalesTheyName) {
   EXPECT_EQ(r.at(8, true, false), 0.1);
   EXPECT_NO_THROW(r.check_blocks(8, "here"));
   EXPECT_THROW(r.check_blocks(12, "here"), InputError);
+  r.set("32=none", "here");
+  EXPECT_FALSE(r.at(32, false, false).has_value());
   for (const char* bad : {"32", "image=0", "image=1", "tile=-0.1", "x=0.1", "0=0.1", "image=5%"}) {
     EXPECT_THROW(r.set(bad, "here"), InputError) << bad;
   }

@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""The worked example of README "Adding a scene estimator" (ctest `examples.nee`, label ci).
+"""The worked example of docs/dev/extending.md "Adding a scene estimator" (ctest `examples.nee`,
+label ci).
 
 Usage:
     /usr/bin/python3 tests/example_estimator_check.py PATH/TO/pcbench_examples PATH/TO/pcbench

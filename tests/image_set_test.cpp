@@ -225,6 +225,43 @@ TEST_F(ImageSetVerify, SeveralFilesAsTheShellExpandsAGlob) {
       << estimates.err;
 }
 
+// The same renders stored as RGBE differ from the float ones by RGBE's rounding, which quiet
+// images and a whole-image test can see: flagged, and the reason names the format's rounding. A
+// real bias far beyond the rounding is flagged without that note.
+TEST_F(ImageSetVerify, RgbeRoundingIsNamedInTheReason) {
+  const auto write_quiet = [&](const std::string& name, const char* ext, double scale) {
+    fs::create_directories(at(name));
+    for (std::uint32_t r = 0; r < kReplicates; ++r) {
+      std::vector<float> pixels = render(r, 1e-3, 1.0, 9);
+      for (float& v : pixels) v = static_cast<float>(v * scale);
+      write(at(name) / fmt::format("r{}.{}", r, ext), pixels, OIIO::TypeDesc::FLOAT);
+    }
+    return at(name).string();
+  };
+  const std::string floats = write_quiet("quiet-float", "exr", 1.0);
+  const std::string rgbe = write_quiet("quiet-rgbe", "hdr", 1.0);
+  const std::string shifted = write_quiet("quiet-float-shifted", "exr", 1.02);
+  const CliResult rounded = cli({"verify", "--images", rgbe, "--against", floats, "--expect",
+                                 "biased", "-q", "--out", at("rgbe-report").string()});
+  ASSERT_EQ(rounded.status, 0) << rounded.out << rounded.err;
+  const nlohmann::json rounded_report = report_at(at("rgbe-report"));
+  const auto& c = rounded_report["comparisons"][0];
+  EXPECT_EQ(c["result"], "biased");
+  EXPECT_NE(c["reason"].get<std::string>().find("the format's rounding, not the renderer"),
+            std::string::npos)
+      << c["reason"];
+  EXPECT_NE(c["reason"].get<std::string>().find("RGBE: 2^-7 of a pixel's largest channel"),
+            std::string::npos);
+  const CliResult real = cli({"verify", "--images", shifted, "--against", floats, "--expect",
+                              "biased", "-q", "--out", at("shifted-report").string()});
+  ASSERT_EQ(real.status, 0) << real.out << real.err;
+  const nlohmann::json real_report = report_at(at("shifted-report"));
+  const auto& d = real_report["comparisons"][0];
+  EXPECT_EQ(d["result"], "biased");
+  EXPECT_EQ(d["reason"].get<std::string>().find("rounding, not the renderer"), std::string::npos)
+      << d["reason"];
+}
+
 // A NaN pixel is a defect, never dropped: its tile fails (exit 1), and the report and the
 // warning locate it. Negative values are counted.
 TEST_F(ImageSetVerify, NonFiniteAndNegativePixelsAreLocated) {

@@ -3,7 +3,7 @@
 
 Usage (ctest `layers.includes`, label ci): /usr/bin/python3 tests/include_layers_check.py SOURCE_DIR
 
-The layers from the bottom up (docs/ARCHITECTURE.md); a file may include headers of its own
+The layers from the bottom up (docs/dev/ARCHITECTURE.md); a file may include headers of its own
 layer and of the layers below it, never one above:
   base/              params, rng, errors, nearest_name, text_hash, atomic_file, json_input, ...
   results/           image files, EXR, the build context

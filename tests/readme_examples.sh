@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
-# Runs every pcbench example of README.md as written (docs that cannot go stale).
-# An example is a line in a ```sh block that starts with `build/release/pcbench`; it must exit 0,
-# or N when the line ends with `# exits N`. Runs in a scratch folder holding the repo's suites/.
+# Runs every pcbench example of README.md and of each page of docs/guide/ as written (docs that
+# cannot go stale). An example is a line in a ```sh block that starts with `build/release/pcbench`;
+# it must exit 0, or N when the line ends with `# exits N`. Commands too slow for CI (or whose
+# result depends on the machine) go in ```console or ```text blocks, which are not run.
+# Runs in one scratch folder holding the repo's suites/ and fuzz/ (its scene files), the pages in
+# order (README.md first, then docs/guide/ by name), so a page's later lines may use its earlier
+# ones' output. Prints each command's wall time and the total.
 set -uo pipefail
 binary=$1
 source_dir=$2
@@ -11,28 +15,42 @@ trap 'rm -rf "$scratch"' EXIT
 mkdir -p "$scratch/build/release"
 ln -s "$binary" "$scratch/build/release/pcbench"
 ln -s "$source_dir/suites" "$scratch/suites"
+ln -s "$source_dir/fuzz" "$scratch/fuzz"
 cd "$scratch"
 
-examples=$(awk '/^```sh/{inside=1; next} /^```/{inside=0} inside && /^build\/release\/pcbench/' \
-  "$source_dir/README.md")
+pages=("$source_dir/README.md")
+for page in "$source_dir"/docs/guide/*.md; do pages+=("$page"); done
+
+now() { date +%s.%N; }
 passed=0
 failed=0
-while IFS= read -r line; do
-  [ -n "$line" ] || continue
-  expected=0
-  if [[ $line =~ \#\ exits\ ([0-9]+)$ ]]; then expected=${BASH_REMATCH[1]}; fi
-  bash -c "$line" >"$scratch/out.txt" 2>&1
-  status=$?
-  if [ "$status" -eq "$expected" ]; then
-    passed=$((passed + 1))
-    echo "ok      $line"
-  else
-    failed=$((failed + 1))
-    echo "FAILED  $line  (exit $status, expected $expected)"
-    sed 's/^/    /' "$scratch/out.txt" | tail -n 20
-  fi
-done <<<"$examples"
+start_all=$(now)
+for page in "${pages[@]}"; do
+  name=${page#"$source_dir"/}
+  examples=$(awk '/^```sh/{inside=1; next} /^```/{inside=0} inside && /^build\/release\/pcbench/' \
+    "$page")
+  [ -n "$examples" ] || continue
+  echo "== $name"
+  while IFS= read -r line; do
+    [ -n "$line" ] || continue
+    expected=0
+    if [[ $line =~ \#\ exits\ ([0-9]+)$ ]]; then expected=${BASH_REMATCH[1]}; fi
+    start=$(now)
+    bash -c "$line" >"$scratch/out.txt" 2>&1
+    status=$?
+    seconds=$(awk -v a="$start" -v b="$(now)" 'BEGIN { printf "%5.1f", b - a }')
+    if [ "$status" -eq "$expected" ]; then
+      passed=$((passed + 1))
+      echo "ok      ${seconds} s  $line"
+    else
+      failed=$((failed + 1))
+      echo "FAILED  ${seconds} s  $line  (exit $status, expected $expected)"
+      sed 's/^/    /' "$scratch/out.txt" | tail -n 20
+    fi
+  done <<<"$examples"
+done
 
-[ $((passed + failed)) -gt 0 ] || { echo "no examples found in README.md"; exit 1; }
-echo "$passed passed, $failed failed"
+[ $((passed + failed)) -gt 0 ] || { echo "no examples found in README.md or docs/guide/"; exit 1; }
+total=$(awk -v a="$start_all" -v b="$(now)" 'BEGIN { printf "%.0f", b - a }')
+echo "$passed passed, $failed failed, ${total} s"
 [ "$failed" -eq 0 ]

@@ -17,7 +17,8 @@ bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-// INTERFACE.md: each `--param` key is read by exactly one of the estimator and the integrand.
+// docs/reference/INTERFACE.md: each `--param` key is read by exactly one of the estimator and the
+// integrand.
 TEST(RegistryParams, NoKeyIsDeclaredByBothAnEstimatorAndAnIntegrand) {
   std::set<std::string> estimator_keys;
   for (const EstimatorEntry& e : estimator_registry()) {

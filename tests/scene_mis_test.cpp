@@ -301,8 +301,8 @@ struct NamedEstimator {
   std::shared_ptr<const SceneEstimator> estimator;
 };
 
-// The worked example of README "Adding a scene estimator" at its defaults (it is registered in
-// pcbench_examples only).
+// The worked example of docs/dev/extending.md "Adding a scene estimator" at its defaults (it is
+// registered in pcbench_examples only).
 NamedEstimator example_nee() {
   const EstimatorEntry e = examples::example_nee_entry();
   return {e.name, e.make_render(resolve_params(e.scene_params, {}, e.name))};

@@ -160,6 +160,11 @@ TEST(SuiteFileParse, RequireMdbSetsScaleRequirementsOnTopOfTheDefaults) {
   EXPECT_EQ(suite.scale_requirements.at(128, false, true), 0.02);
   EXPECT_EQ(suite.scale_requirements.at(32, false, false), 0.05);
   EXPECT_EQ(suite.scale_requirements.at(8, true, false), 0.05);  // the default stays
+  // null drops a requirement.
+  EXPECT_FALSE(
+      parse_suite(R"({"require_mdb": {"tile": null}, "runs": [)" + row + "]}", "suite.json")
+          .scale_requirements.at(8, true, false)
+          .has_value());
   const std::vector<std::pair<std::string, std::string>> bad = {
       {R"({"image": 1.5})", "suite.json: /require_mdb/image: the required detectable bias"},
       {R"({"whole": 0.01})", "suite.json: /require_mdb/whole: scale 'whole' is not one of"},

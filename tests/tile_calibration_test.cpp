@@ -366,7 +366,8 @@ TEST(TileCalibration, BadOptionsAreInputErrors) {
 }
 
 // The full form: the defaults (32×32, 4 spp × 8 replicates, 1000 seeds; 3 scales). Same checks
-// and error budget as the short form. Prints the tables quoted in the documentation.
+// and error budget as the short form. Prints the tables quoted in
+// docs/findings/tile-calibration.md.
 TEST(TileCalibrationFull, DefaultOptions) {
   const TileCalibrationResult result = calibrate_tiles({});
   print_tile_calibration(result, std::cout);

@@ -249,7 +249,8 @@ def semantic_problems(report, exit_status=None):
 
 
 def expected_exit_status(report):
-    """The exit status INTERFACE.md prescribes for a report's runs and comparisons."""
+    """The exit status docs/reference/INTERFACE.md prescribes for a report's runs and
+    comparisons."""
     runs = report["runs"]
     if any(r["status"] == "not_run" for r in runs):
         return 130

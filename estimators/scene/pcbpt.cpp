@@ -23,8 +23,8 @@
 // connection strategy (and per next-event strategy under nee=draws, 1 under nee=fresh), 1 per
 // emitter hit and the pool size for light tracing (mis=balance), or, per connection strategy, the
 // draws' effective samples of the path's light vertex from the previous iteration's tables
-// (mis=resampling, resampling_counts.h; README "pcbpt's parameters" gives the measurements that
-// keep it off by default).
+// (mis=resampling, resampling_counts.h; docs/findings/pcbpt-equal-time.md gives the measurements
+// that keep it off by default).
 //
 // Every choice is a parameter (PcbptConfig, pcbpt.h, names the published and legacy value of
 // each; pcbpt_form.cpp declares them): M (128), K (8), uniform_mix u (0.25), cache
@@ -34,8 +34,8 @@
 // is nee=draws K=3 M=1024 light_tracing=pixels with the other defaults (public sources: cache
 // points at every depth from a grid of about 1/16 of the pixels per axis, K = 3, three nearest
 // cache points and a uniform share of 0.25, importance without the camera-side BSDF, occluded
-// entries scaled by 0.02; README, "pcbpt's parameters"); nee=fresh, K = 8, M = 128 and
-// light_tracing=M are pcbench's on measurement. The legacy values (cache=tile-first-hit
+// entries scaled by 0.02; docs/guide/scenes.md, "pcbpt's parameters"); nee=fresh, K = 8, M = 128
+// and light_tracing=M are pcbench's on measurement. The legacy values (cache=tile-first-hit
 // lookup=tile cache_importance=connection floor=0 light_tracing=M nee=draws with M=1024 K=8
 // uniform_mix=0.1 tile=8) are the tile design pcbench had before, bit for bit: one cache point per
 // tile at the first hit, its P mixed with uniform, deeper vertices uniform (guide=first).

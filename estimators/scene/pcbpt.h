@@ -1,11 +1,11 @@
 // Probabilistic connections (pcbpt.cpp), configurable for its ablations and its negative control
 // (ctl_scene_visible_only.cpp). The defaults are the published design except four that are
-// pcbench's own, on measurement (README "pcbpt's parameters"): nee=fresh, K = 8, M = 128 and
-// light_tracing=M, where the published design has nee=draws, K = 3, a larger pool (1024 here
-// before) and light_tracing=pixels. The comments name the legacy value of each choice (the tile
-// design pcbench had before: cache=tile-first-hit, lookup=tile, cache_importance=connection,
-// visibility=ignored, light_tracing=M, nee=draws, M=1024, K=8, uniform_mix=0.1, mis=balance),
-// which reproduces that estimator bit for bit.
+// pcbench's own, on measurement (docs/guide/scenes.md, "pcbpt's parameters"): nee=fresh,
+// K = 8, M = 128 and light_tracing=M, where the published design has nee=draws, K = 3, a larger
+// pool (1024 here before) and light_tracing=pixels. The comments name the legacy value of each
+// choice (the tile design pcbench had before: cache=tile-first-hit, lookup=tile,
+// cache_importance=connection, visibility=ignored, light_tracing=M, nee=draws, M=1024, K=8,
+// uniform_mix=0.1, mis=balance), which reproduces that estimator bit for bit.
 #pragma once
 
 #include <cstdint>

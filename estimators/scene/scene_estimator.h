@@ -18,7 +18,7 @@
 // The loop that runs it is estimators/scene/render_replicate.h; the renderer's services (tracing
 // with the run's streams, connect() with its MIS weight, splats, strategy tallies, counters) are
 // all an estimator uses. Each estimator is a file in estimators/scene/ named after its registry
-// key; README "Adding a scene estimator" walks through one.
+// key; docs/dev/extending.md "Adding a scene estimator" walks through one.
 #pragma once
 
 #include <cstdint>

@@ -452,7 +452,7 @@ void add_run_options(CLI::App* app, RunArguments& args) {
                   "SCALE=FRACTION, repeatable: the largest detectable bias a scene comparison must "
                   "reach at a scale of its block pyramid, relative to a bright block's mean; "
                   "SCALE is tile, image or a block edge in pixels (default tile=0.05, "
-                  "image=0.01)")
+                  "image=0.01; SCALE=none drops one)")
       ->take_all();
   add_reference_cache_option(app, args);
 }

@@ -1,4 +1,4 @@
-// The `pcbench` command line (INTERFACE.md, "CLI"). Returns the exit status.
+// The `pcbench` command line (docs/reference/INTERFACE.md, "CLI"). Returns the exit status.
 #pragma once
 
 #include <atomic>

@@ -2,17 +2,20 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <set>
 
 #include "base/comma_list.h"
 #include "base/errors.h"
 #include "harness/session/publish.h"
 #include "harness/session/report.h"
 #include "harness/verify/block_pyramid.h"
+#include "harness/verify/block_rounding.h"
 #include "harness/verify/block_verdicts.h"
 #include "harness/verify/image_statistics.h"
 #include "harness/verify/report_compare.h"
@@ -102,6 +105,28 @@ struct Against {
   std::string id;  // the comparison's b: against | reference | exact
 };
 
+// A set's rounding: its worst file's, relative to a pixel's largest channel if any file is RGBE.
+SideRounding side_rounding(const Image& mean, const ImageSet& set) {
+  const bool rgbe = std::any_of(set.files.begin(), set.files.end(),
+                                [](const ImageFileFacts& f) { return f.pixel_type == "rgbe"; });
+  return {&mean, set.quantisation_bias, rgbe};
+}
+
+// "RGBE: 2^-7 of a pixel's largest channel; half: 2^-11 of a value" for the formats involved.
+std::string rounding_formats(const ImageSet& set, const ImageSet* other,
+                             const std::string& reference_type) {
+  std::set<std::string> types = {reference_type};
+  for (const ImageSet* s : {&set, other}) {
+    if (s == nullptr) continue;
+    for (const ImageFileFacts& f : s->files) types.insert(f.pixel_type);
+  }
+  std::vector<std::string> parts;
+  if (types.contains("rgbe")) parts.push_back("RGBE: 2^-7 of a pixel's largest channel");
+  if (types.contains("half")) parts.push_back("half: 2^-11 of a value");
+  if (parts.empty()) parts.push_back("float: 2^-24 of a value");
+  return join_names(parts, "; ");
+}
+
 }  // namespace
 
 CropWindow parse_crop(const std::string& text) {
@@ -143,6 +168,7 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
   const Image& like = set.images.front();
   std::optional<ImageSet> other;
   std::optional<Image> reference, reference_stderr;
+  std::string reference_pixel_type = "float";
   Against against;
   double quantisation = set.quantisation_bias;
   if (request.against) {
@@ -156,6 +182,7 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
     reference = read_image_file(*request.reference_image, request.read, &facts);
     check_same_size(*reference, like, *request.reference_image);
     quantisation = std::max(quantisation, worst_quantisation_bias(facts.pixel_type));
+    reference_pixel_type = facts.pixel_type;
     against = {"reference",
                *request.reference_image,
                {{"kind", "reference"}, {"file", *request.reference_image}},
@@ -230,6 +257,25 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
                       : z_map(stats, *reference);
   const PixelTestSummary pixels = summarize_z(
       z, set.images, other ? std::span<const Image>(other->images) : std::span(&*reference, 1));
+  // Where every block that decides a difference differs by no more than the files' rounding,
+  // the reason says so (harness/verify/block_rounding.h).
+  if (comparisons.front().result == "biased") {
+    const std::vector<SideRounding> sides = {
+        side_rounding(stats.mean, set),
+        other ? side_rounding(other_stats->mean, *other)
+        : request.reference_image
+            ? SideRounding{&*reference, worst_quantisation_bias(reference_pixel_type),
+                           reference_pixel_type == "rgbe"}
+            : SideRounding{}};
+    const double ratio = worst_difference_over_rounding(comparisons.front(), result, sides);
+    if (ratio <= 1.0) {
+      comparisons.front().reason += fmt::format(
+          "; every block that differs differs by at most {:.2g}× the worst-case rounding of the "
+          "files' pixel format ({}): the format's rounding, not the renderer, may be what "
+          "differs; write float EXR or PFM to test below it",
+          ratio, rounding_formats(set, other ? &*other : nullptr, reference_pixel_type));
+    }
+  }
   Json files;
   try {
     fs::create_directories(folder / "images");

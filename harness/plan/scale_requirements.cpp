@@ -39,6 +39,10 @@ void ScaleRequirements::set(std::string_view scale, double fraction, std::string
   max_relative_mdb[key] = fraction;
 }
 
+void ScaleRequirements::drop(std::string_view scale, std::string_view where) {
+  max_relative_mdb.erase(scale_key(scale, where));
+}
+
 void ScaleRequirements::set(std::string_view assignment, std::string_view where) {
   const std::size_t equals = assignment.find('=');
   if (equals == std::string_view::npos) {
@@ -46,6 +50,7 @@ void ScaleRequirements::set(std::string_view assignment, std::string_view where)
         fmt::format("{}: '{}' is not SCALE=FRACTION (for example image=0.01)", where, assignment));
   }
   const std::string_view value = assignment.substr(equals + 1);
+  if (value == "none") return drop(assignment.substr(0, equals), where);
   double fraction = 0.0;
   const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), fraction);
   if (error != std::errc() || end != value.data() + value.size()) {

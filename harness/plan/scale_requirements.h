@@ -2,7 +2,7 @@
 // (harness/verify/block_pyramid.h): the largest detectable bias relative to a bright block's mean.
 // By default the whole image must see 1% and the finest blocks (8×8 tiles) 5%; a suite's
 // "require_mdb" or the command line's --require-mdb SCALE=FRACTION changes one scale or adds
-// another (INTERFACE.md, "Scene verification").
+// another (docs/reference/INTERFACE.md, `test: "block-pyramid"`).
 #pragma once
 
 #include <cstdint>
@@ -22,7 +22,10 @@ struct ScaleRequirements {
   // Sets the requirement of SCALE ("tile", "image" or a block edge in pixels) to `fraction`.
   // Throws InputError naming `where` for another scale name or a fraction outside (0, 1).
   void set(std::string_view scale, double fraction, std::string_view where);
-  // Parses and sets "SCALE=FRACTION".
+  // Drops the requirement of SCALE (a suite's null, the command line's SCALE=none): a scale no
+  // budget can serve, such as door-ajar's 8×8 tiles, then states its power without one.
+  void drop(std::string_view scale, std::string_view where);
+  // Parses and sets "SCALE=FRACTION" (or drops it: "SCALE=none").
   void set(std::string_view assignment, std::string_view where);
   // Throws InputError naming `where` when a block edge is not tile × 2^k for the tile size given.
   void check_blocks(std::uint32_t tile, std::string_view where) const;

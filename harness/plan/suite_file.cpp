@@ -45,8 +45,12 @@ class SuiteParser {
       in_.require_object(requirements, "/require_mdb");
       for (const auto& [scale, value] : requirements.items()) {
         const std::string pointer = JsonInput::member("/require_mdb", scale);
-        suite.scale_requirements.set(scale, in_.number_at(value, pointer),
-                                     fmt::format("{}: {}", in_.source(), pointer));
+        const std::string where = fmt::format("{}: {}", in_.source(), pointer);
+        if (value.is_null()) {
+          suite.scale_requirements.drop(scale, where);
+        } else {
+          suite.scale_requirements.set(scale, in_.number_at(value, pointer), where);
+        }
       }
     }
     if (root.contains("defaults")) {

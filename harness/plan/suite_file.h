@@ -1,4 +1,4 @@
-// Suite files (INTERFACE.md, "Suite file"):
+// Suite files (docs/reference/INTERFACE.md, "Suite file"):
 //   {"name", "description", "defaults": {"samples", "replicates", "seed"},
 //    "runs": [{"estimator", "integrand", "params": {..}, "samples", "replicates", "expect"}],
 //    "grid": [{"estimator": [..], "integrand": [..], "params": {"M": [..]}, ...}],

@@ -26,7 +26,7 @@ inline constexpr std::uint64_t kEscalationFactor = 4;
 // the threshold it was compared with.
 inline constexpr double kBorderlineFactor = 10.0;
 
-// Exit statuses (INTERFACE.md).
+// Exit statuses (docs/reference/INTERFACE.md).
 enum ExitStatus : int {
   kExitOk = 0,
   kExitVerdictDiffers = 1,

@@ -1,9 +1,10 @@
 // Equal-cost comparison of two runs on one integrand: the ratio of their efficiencies with an
 // interval, from replicates measured interleaved in one process (harness/run/interleaved_runs.h).
 //
-// Efficiency is 1 / (variance × cost). With the spread across replicates (INTERFACE.md: every
-// standard error uses it) a run's efficiency is 1 / (s² c), s² the variance of its replicate
-// estimates and c its CPU seconds per replicate, whatever its sample count. The ratio of b to a
+// Efficiency is 1 / (variance × cost). With the spread across replicates
+// (docs/reference/INTERFACE.md: every standard error uses it) a run's efficiency is 1 / (s² c),
+// s² the variance of its replicate estimates and c its CPU seconds per replicate, whatever its
+// sample count. The ratio of b to a
 //
 //     ratio = (s²_a / s²_b) · (c_a / c_b)
 //

@@ -1,7 +1,7 @@
 // `pcbench compare A.json B.json`: did a change alter an estimator? Pairs the runs of two reports
 // by id and tests each pair's replicate estimates for equal means (Welch's two-sample t-test),
-// with Holm–Bonferroni over the pairs at a family-wise alpha (INTERFACE.md, Report and
-// Determinism).
+// with Holm–Bonferroni over the pairs at a family-wise alpha (docs/reference/INTERFACE.md, Report
+// and Determinism).
 #pragma once
 
 #include <cstddef>

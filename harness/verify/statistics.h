@@ -1,8 +1,8 @@
 // Figures computed from a run's replicates: aggregates (bias, standard error, RMSE, relative MSE,
 // efficiency) and the test of E[estimate] = reference, with one false-alarm budget per suite.
 //
-// Every standard error and test uses the spread *across replicates* (INTERFACE.md): replicates
-// are independent even where the samples within one share a pool.
+// Every standard error and test uses the spread *across replicates* (docs/reference/INTERFACE.md):
+// replicates are independent even where the samples within one share a pool.
 #pragma once
 
 #include <cstdint>

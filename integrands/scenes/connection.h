@@ -7,7 +7,7 @@
 // have made the same path, each counted with the number of samples the estimator takes of it per
 // pixel and iteration (StrategyCounts). Those counts are constants of the estimator, or functions
 // of the path (ConnectionCountModel), never properties of the current pool, so the weighted f
-// stays independent of the pool (README, "Scenes").
+// stays independent of the pool (docs/guide/scenes.md, "MIS weights").
 #pragma once
 
 #include <cstdint>

@@ -1,7 +1,7 @@
 // A scene as described (by a JSON file or a built-in builder), before anything is traced: a
 // triangle soup with one material and one emission per triangle, point lights, a pinhole camera,
-// the image size and the maximum path length L (INTERFACE.md: segments from the camera to the
-// emitter; L = 1 is an emitter seen directly).
+// the image size and the maximum path length L (docs/reference/INTERFACE.md: segments from the
+// camera to the emitter; L = 1 is an emitter seen directly).
 #pragma once
 
 #include <cstdint>

@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
-# pcbench on a Slurm cluster, two ways (README "MPI and job arrays"; not run by CI). Edit the
-# partition, the time and the paths; the suite is the door-ajar power check (~CPU hours in the
-# README). Each way gives the report one process would have written, bit for bit.
+# pcbench on a Slurm cluster, two ways (docs/guide/cluster.md; not run by CI). Edit the
+# partition, the time and the paths; the suite is the door-ajar power check (its CPU hours are in
+# docs/findings/scene-power.md). Each way gives the report one process would have written, bit
+# for bit.
 #
 # 1. One MPI job: P ranks over N nodes, one rank per node using all its cores (pcbench's
 #    threads), rank 0 writing the report:
-#      sbatch docs/slurm-example.sh mpi
+#      sbatch docs/guide/slurm-example.sh mpi
 # 2. A job array without MPI: n shards, each a whole share of the suite's runs, then a merge job
 #    that waits for all of them:
-#      sbatch docs/slurm-example.sh array
+#      sbatch docs/guide/slurm-example.sh array
 #    A shard that failed (node lost, time limit) is named by the merge (exit 2); resubmit it
-#    alone (`sbatch --array=I docs/slurm-example.sh shard`, or `--resume` it) and merge again.
+#    alone (`sbatch --array=I docs/guide/slurm-example.sh shard`, or `--resume` it) and merge again.
 #SBATCH --job-name=pcbench
 #SBATCH --time=04:00:00
 #SBATCH --cpus-per-task=32
