@@ -4,6 +4,7 @@
 #include <oneapi/tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <fstream>
 #include <iostream>
@@ -14,6 +15,8 @@
 
 #include "base/errors.h"
 #include "harness/commands/calibration.h"
+#include "harness/verify/block_checks.h"
+#include "harness/verify/pyramid_calibration.h"
 #include "tests/test_support.h"
 
 namespace pcbench {
@@ -200,6 +203,110 @@ TEST(TileCalibration, BiasedControlFails) {
   }
   EXPECT_FALSE(result.pass);
   EXPECT_TRUE(result.power.empty());
+}
+
+// The verify layer's counting on made-up seeds: a false alarm is a p <= alpha, overall and
+// through each scale, with the rate's Wilson interval and the binomial tests against alpha.
+TEST(TileCalibration, SizeRowCountsMadeUpSeeds) {
+  // Per seed: the comparison's p, then its 8 px and its 16 px scale's smallest adjusted p.
+  const std::vector<std::array<double, 3>> p = {
+      {0.01, 0.01, 1.0}, {0.5, 0.6, 0.5}, {0.05, 1.0, 0.05}, {0.2, 0.3, 0.2}};
+  std::vector<SizeSeed> seeds;
+  for (const std::array<double, 3>& q : p) {
+    SizeSeed seed{.min_p_adjusted = q[0], .tests = 15};
+    seed.scales.push_back({.block = 8,
+                           .tests = 12,
+                           .min_p_adjusted = q[1],
+                           .bright_relative_mdb = 0.1,
+                           .centre = {.channel = 1, .p_value = q[1]}});
+    seed.scales.push_back({.block = 16,
+                           .tests = 3,
+                           .min_p_adjusted = q[2],
+                           .bright_relative_mdb = 0.05,
+                           .centre = {.channel = 1, .p_value = q[2]}});
+    seeds.push_back(seed);
+  }
+  const PyramidSizeRow row = pyramid_size_row(seeds, 0.05, 1e-3);
+  EXPECT_EQ(row.seeds, 4u);
+  EXPECT_EQ(row.tests, 15u);
+  EXPECT_EQ(row.false_alarms, 2u);  // 0.01 and 0.05: p <= alpha
+  EXPECT_DOUBLE_EQ(row.false_alarm_rate, 0.5);
+  EXPECT_DOUBLE_EQ(row.expected_false_alarms, 0.2);
+  EXPECT_DOUBLE_EQ(row.wilson_low, wilson_interval(2, 4, 0.95).low);
+  EXPECT_DOUBLE_EQ(row.wilson_high, wilson_interval(2, 4, 0.95).high);
+  EXPECT_DOUBLE_EQ(row.binomial_upper_p_value, binomial_upper_p_value(2, 4, 0.05));
+  EXPECT_DOUBLE_EQ(row.binomial_p_value, binomial_test_p_value(2, 4, 0.05));
+  ASSERT_EQ(row.scales.size(), 2u);
+  EXPECT_EQ(row.scales[0].false_alarms, 1u);
+  EXPECT_EQ(row.scales[1].false_alarms, 1u);
+  EXPECT_EQ(row.scales[1].block, 16u);
+  EXPECT_EQ(row.scales[1].tests, 3u);
+  EXPECT_DOUBLE_EQ(row.scales[0].expected_share, 0.025);
+  EXPECT_DOUBLE_EQ(row.scales[1].expected_false_alarms, 0.1);
+  EXPECT_DOUBLE_EQ(row.scales[0].median_bright_relative_mdb, 0.1);
+  EXPECT_EQ(row.scales[1].centre_p_values, (std::vector<double>{1.0, 0.5, 0.05, 0.2}));
+  EXPECT_EQ(row.scales[1].min_p_adjusted, (std::vector<double>{1.0, 0.5, 0.05, 0.2}));
+  // 2 alarms of 4 at alpha = 0.05: P(X >= 2) = 0.014 passes a threshold of 1e-3, not of 0.05.
+  EXPECT_TRUE(row.pass == (row.scales[0].pass && row.scales[1].pass));
+  EXPECT_FALSE(pyramid_size_row(seeds, 0.05, 0.05).pass);
+  seeds[1].scales.pop_back();
+  EXPECT_THROW(pyramid_size_row(seeds, 0.05, 1e-3), std::invalid_argument);
+}
+
+// Made-up replicate images: R values per pixel, 1 + 0.2 u with u uniform from a fixed LCG.
+std::vector<Image> noise_images(std::uint32_t size, std::uint32_t replicates, std::uint64_t state) {
+  std::vector<Image> out;
+  for (std::uint32_t r = 0; r < replicates; ++r) {
+    Image image(size, size);
+    for (double& v : image.values) {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      v = 1.0 + 0.2 * static_cast<double>(state >> 11) * 0x1.0p-53;
+    }
+    out.push_back(std::move(image));
+  }
+  return out;
+}
+
+// What the power prediction rests on: k × the reported MDB of a block moves that block's
+// statistic by exactly k m (its spread is unchanged), at every scale and by either rule; the
+// block's detection is its own raw p at the scale's share; at k = 1 the prediction is 0.8.
+TEST(TileCalibration, OwnMdbMovesTheStatisticByKm) {
+  const std::vector<Image> a = noise_images(32, 6, 1), b = noise_images(32, 6, 2);
+  const PyramidResult t = compare_blocks(a, b, 0.05);
+  ASSERT_EQ(t.scales.size(), 3u);
+  const std::vector<double> ks = {0.5, 1.0, 2.0};
+  for (std::size_t s = 0; s < t.scales.size(); ++s) {
+    for (const InjectionRule rule : {InjectionRule::kBrightest, InjectionRule::kCentre}) {
+      std::vector<PyramidResult> seen;
+      const Retest retest = [&](const std::vector<Image>& biased) {
+        seen.push_back(compare_blocks(biased, b, 0.05));
+        return seen.back();
+      };
+      const InjectionSeed p = inject_own_mdb(t, s, rule, a, retest, ks, 0.05);
+      const std::string where = std::string(rule_name(rule)) + " at scale " + std::to_string(s);
+      ASSERT_EQ(seen.size(), ks.size()) << where;
+      const std::vector<BlockTest>& tests = t.scales[s].tests;
+      const auto it = std::find_if(tests.begin(), tests.end(), [&](const BlockTest& x) {
+        return x.x == p.block.x && x.y == p.block.y && x.channel == p.block.channel;
+      });
+      ASSERT_NE(it, tests.end()) << where;
+      const std::size_t index = static_cast<std::size_t>(it - tests.begin());
+      EXPECT_EQ(p.share, t.scales[s].detection_share) << where;
+      EXPECT_EQ(p.mdb, it->min_detectable_bias) << where;
+      if (rule == InjectionRule::kCentre) {
+        EXPECT_EQ(p.block.channel, kCentreChannel) << where;
+      } else {
+        EXPECT_EQ(&*it, &brightest_block(t.scales[s])) << where;
+      }
+      for (std::size_t j = 0; j < ks.size(); ++j) {
+        const BlockTest& shifted = seen[j].scales[s].tests[index];
+        EXPECT_NEAR(shifted.statistic, it->statistic + ks[j] * p.multiplier, 1e-6) << where;
+        EXPECT_EQ(p.block_detected[j], shifted.p_value <= p.share) << where;
+        EXPECT_EQ(p.detected[j], seen[j].rejected) << where;
+      }
+      EXPECT_NEAR(p.predicted[1], 0.8, 1e-4) << where;
+    }
+  }
 }
 
 TileCalibrationOptions tiny_options() {
