@@ -367,7 +367,7 @@ def main():
                            os.path.join(tmp, "d-cli-grid", "report.json")], 0, False),
             ("l-calibrate", ["calibrate", "-e", "plain", "--seeds", "50", "-n", "200", "-r", "4"],
              0, False),
-            # The tile test's calibration on scenes: a `tile_calibration` section, no runs.
+            # The block pyramid's calibration on scenes: a `tile_calibration` section, no runs.
             ("l-tile-calibrate", ["calibrate", "-i", "furnace,cornell", "-p", "resolution=16",
                                   "--seeds", "20", "-n", "1", "-r", "4"], 0, False),
             # Scenes: image sections (with the per-strategy images), tracing counters, tile
@@ -419,10 +419,16 @@ def main():
                   ("cornell", "pt", "plain")]
               and all(len(r["min_p_adjusted"]) == 20 for r in section["rows"]),
               "l-tile-calibrate: furnace against its exact image, cornell pt vs plain, 20 seeds")
+        check(all([(s["block"], s["tests"], len(s["min_p_adjusted"])) for s in r["scales"]]
+                  == [(8, 12, 20), (16, 3, 20)] and r["tests"] == 15 for r in section["rows"]),
+              "l-tile-calibrate: every row has its pyramid's scales, 8 px (12 tests) and the "
+              "whole image (3), with a smallest adjusted p per seed")
         curves = section["power_curves"]
-        check([c["tile_rule"] for c in curves] == ["brightest", "centre"]
+        check([(c["block_rule"], c["block"]) for c in curves]
+              == [("brightest", 8), ("brightest", 16), ("centre", 8), ("centre", 16)]
               and all([p["multiplier"] for p in c["points"]] == [0.5, 1, 2] for c in curves),
-              "l-tile-calibrate: power curves in the brightest and the centre tile at k = 0.5, 1, 2")
+              "l-tile-calibrate: power curves in the brightest and the centre block of each scale "
+              "at k = 0.5, 1, 2")
     cached = reports.get("n-scene-cached")
     if cached:
         images = [run["image"] for run in cached["runs"]]

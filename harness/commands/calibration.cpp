@@ -125,18 +125,6 @@ double elapsed_since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-ProportionInterval wilson_interval(std::uint64_t successes, std::uint64_t trials,
-                                   double confidence) {
-  if (trials == 0) return {0.0, 1.0};
-  const double z = boost::math::quantile(boost::math::normal(), 1.0 - (1.0 - confidence) / 2.0);
-  const double n = static_cast<double>(trials);
-  const double k = static_cast<double>(successes);
-  const double z2 = z * z;
-  const double centre = (k + z2 / 2.0) / (n + z2);
-  const double half = z / (n + z2) * std::sqrt(k * (n - k) / n + z2 / 4.0);
-  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
-}
-
 CalibrationResult calibrate(const CalibrationOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   validate(options);

@@ -28,6 +28,7 @@
 #include "harness/run/diagnostics.h"
 #include "harness/session/report.h"
 #include "harness/session/session.h"
+#include "harness/verify/statistics.h"  // wilson_interval
 
 namespace pcbench {
 
@@ -133,15 +134,6 @@ nlohmann::ordered_json calibration_json(const CalibrationResult& result);
 
 // A human summary: the size table, then the power curve.
 void print_calibration(const CalibrationResult& result, std::ostream& out);
-
-// Wilson score interval of a binomial proportion at two-sided confidence `confidence` (0.95 for
-// 95%). {0, 1} when trials is 0.
-struct ProportionInterval {
-  double low = 0.0;
-  double high = 1.0;
-};
-ProportionInterval wilson_interval(std::uint64_t successes, std::uint64_t trials,
-                                   double confidence);
 
 // `pcbench calibrate`: runs calibrate(), prints it, writes a report whose `calibration` holds
 // it. Exit 0 when it passes, 1 when it does not.

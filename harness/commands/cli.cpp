@@ -536,8 +536,8 @@ int replay_command_line(const RunArguments& args, const ReplayRequest& request, 
 }
 
 // `pcbench calibrate`: of the run test on an analytic integrand (harness/commands/calibration.h),
-// of the tile test on scenes (harness/commands/tile_calibration.h). Unset options take each one's
-// defaults;
+// of the block pyramid on scenes (harness/commands/tile_calibration.h). Unset options take each
+// one's defaults;
 // --param, the seed, threads and output go to the RunArguments that `run` uses.
 struct CalibrateArguments {
   std::vector<std::string> estimators;
@@ -553,8 +553,8 @@ void add_calibrate_options(CLI::App* app, CalibrateArguments& calibration, RunAr
                   "pt,plain)")
       ->delimiter(',');
   app->add_option("--integrand,-i", calibration.integrands,
-                  "integrand with an exact reference (default genz-gaussian), or scenes: the tile "
-                  "test against the exact image (furnace) and between estimators (others)")
+                  "integrand with an exact reference (default genz-gaussian), or scenes: the block "
+                  "pyramid against the exact image (furnace) and between estimators (others)")
       ->delimiter(',');
   app->add_option("--param,-p", args.params,
                   "key=value for the estimators and the integrand (resolution, ...), repeatable");
@@ -597,8 +597,8 @@ int calibrate_command_line(const CalibrateArguments& calibration, const RunArgum
       std::count_if(calibration.integrands.begin(), calibration.integrands.end(), is_scene_name));
   if (scenes > 0 && scenes < calibration.integrands.size()) {
     throw InputError(
-        "command line: calibrate takes scenes (the tile test) or one analytic integrand (the run "
-        "test), not both");
+        "command line: calibrate takes scenes (the block pyramid) or one analytic integrand (the "
+        "run test), not both");
   }
   if (scenes == 0 && calibration.integrands.size() > 1) {
     throw InputError("command line: calibrate takes one analytic integrand");
@@ -698,7 +698,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       "calibrate",
       "the verifier's self-test: p-values of unbiased estimators over many seeds are uniform, "
       "false alarms match alpha, and the power curve follows its prediction (on scenes: of the "
-      "tile test)");
+      "block pyramid, overall and per scale)");
   add_calibrate_options(calibrate_app, calibration, calibrate_args);
 
   std::vector<std::string> compare_reports_paths;

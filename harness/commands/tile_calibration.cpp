@@ -7,14 +7,11 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
 #include <set>
-#include <span>
 #include <stdexcept>
-#include <tuple>
 
 #include "base/errors.h"
 #include "estimators/scene/scene_estimator.h"
@@ -24,18 +21,10 @@
 #include "harness/session/report.h"
 #include "harness/verify/block_checks.h"
 #include "harness/verify/block_pyramid.h"
-#include "harness/verify/image_statistics.h"
-#include "harness/verify/statistics.h"
+#include "harness/verify/pyramid_calibration.h"
 
 namespace pcbench {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kConfidence = 0.95;  // of the Wilson intervals
-// The fixed tile (KS test, centre-tile power curve): the one holding the image centre, in this
-// channel. Any choice made before the samples are seen would do; it must not be black (its
-// p-value would be 1 in every seed), and green at the centre is lit in every built-in scene.
-constexpr std::uint32_t kFixedChannel = 1;
 
 using Json = nlohmann::ordered_json;
 
@@ -53,80 +42,20 @@ struct ScenePlans {
   std::vector<const RunPlan*> runs;  // in the order of options.estimators
 };
 
-// Which tile×channel test a power curve's bias goes into, per seed.
-enum class InjectionRule {
-  kBrightest,  // brightest_tile: the session's self-check, chosen from the same sample
-  kCentre,     // the fixed tile at the image centre: chosen before any sample is seen
-};
-
+// A power curve: the comparison, the scale whose block takes the bias, the rule that chooses it.
 struct CurveSpec {
-  std::size_t row = 0;  // the comparison
+  std::size_t row = 0;
+  std::size_t scale = 0;
   InjectionRule rule = InjectionRule::kBrightest;
 };
 
-// What a power curve needs of one seed.
-struct PowerSeed {
-  std::size_t tile_index = 0;  // into ScaleTests::tiles
-  BlockTest tile = {};         // the injected tile as the unbiased comparison saw it
-  double mdb = kNaN, stderr_of_difference = kNaN, multiplier = kNaN;
-  std::vector<bool> detected, tile_detected;              // per k: k × this seed's MDB
-  std::vector<double> predicted;                          // per k
-  std::vector<bool> fixed_detected, fixed_tile_detected;  // per k: the fixed δ_k
-  // For the fixed δ, which is known only once every seed has its MDB: the injected tile cut out
-  // of a's and b's replicates, and the smallest raw p of the comparison's other tests (which a
-  // bias in this tile×channel does not change). Kept instead of whole images, whose memory
-  // would grow with seeds × pixels.
-  std::vector<Image> crop_a, crop_b;
-  double other_min_p = 1.0;
-};
-
-// What a size row needs of one seed's comparison.
-struct RowSeed {
-  double min_p_adjusted = kNaN;
-  double bright_relative_mdb = kNaN;
-  std::uint32_t tests = 0;
-  BlockTest fixed = {};  // the centre tile's test, whose p-values are KS-tested
-};
-
 struct SeedOutcome {
-  std::vector<RowSeed> rows;     // per comparison
-  std::vector<PowerSeed> power;  // per curve
+  std::vector<SizeSeed> rows;        // per comparison
+  std::vector<InjectionSeed> power;  // per curve
 };
 
-// The tile tests alone: the finest scale of the block pyramid, decided as a family of its own.
-ScaleTests compare_tiles(std::span<const Image> a, std::span<const Image> b, double alpha) {
-  return compare_blocks(a, b, alpha, {.max_scales = 1}).scales.front();
-}
-ScaleTests test_tiles_against_exact(std::span<const Image> a, const Image& exact, double alpha) {
-  return test_blocks_against_exact(a, exact, alpha, {.max_scales = 1}).scales.front();
-}
-
-// NaN when some value is (an unknown detectable bias must not read as a small one).
-double median(std::vector<double> values) {
-  if (values.empty() ||
-      std::any_of(values.begin(), values.end(), [](double v) { return std::isnan(v); })) {
-    return kNaN;
-  }
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-// The test of the tile holding the image centre, in kFixedChannel.
-const BlockTest& centre_tile(const ScaleTests& t, std::uint32_t width, std::uint32_t height) {
-  const std::uint32_t size = PyramidOptions{}.tile;
-  const std::uint32_t tx = (width / 2) / size, ty = (height / 2) / size;
-  const auto it = std::find_if(t.tests.begin(), t.tests.end(), [&](const BlockTest& x) {
-    return x.x == tx && x.y == ty && x.channel == kFixedChannel;
-  });
-  if (it == t.tests.end()) throw std::logic_error("tile calibration: no centre tile");
-  return *it;
-}
-
-// The injected tile's own test rejects at Holm's first threshold (which the MDB is computed at).
-bool tile_rejects(const ScaleTests& t, std::size_t index, double share) {
-  return t.tests.at(index).p_value <= share;
-}
+// One seed's replicate images: per scene, per estimator (in the order of options.estimators).
+using SeedImages = std::vector<std::vector<std::vector<Image>>>;
 
 void validate(const TileCalibrationOptions& o) {
   const std::string where = "tile calibration";
@@ -144,7 +73,7 @@ void validate(const TileCalibrationOptions& o) {
   for (const std::string& name : o.scenes) {
     if (!is_scene_name(name)) {
       throw InputError(fmt::format(
-          "{}: '{}' is not a scene (the tile test is calibrated on scenes; `pcbench calibrate` "
+          "{}: '{}' is not a scene (the block pyramid is calibrated on scenes; `pcbench calibrate` "
           "on an analytic integrand calibrates the run test)",
           where, name));
     }
@@ -243,227 +172,117 @@ std::vector<Image> render(const RunPlan& plan, std::uint64_t seed,
   return std::move(run.images);
 }
 
-// The pixels of `tile` in every image: a tile_size × tile_size image (less at the border).
-std::vector<Image> crop(const std::vector<Image>& images, const BlockTest& tile) {
-  const std::uint32_t size = PyramidOptions{}.tile;
-  std::vector<Image> out;
-  for (const Image& image : images) {
-    const std::uint32_t x0 = tile.x * size, y0 = tile.y * size;
-    Image c(std::min(size, image.width - x0), std::min(size, image.height - y0));
-    for (std::uint32_t y = 0; y < c.height; ++y) {
-      for (std::uint32_t x = 0; x < c.width; ++x) {
-        for (std::uint32_t ch = 0; ch < kImageChannels; ++ch) {
-          c.at(x, y, ch) = image.at(x0 + x, y0 + y, ch);
-        }
-      }
+// The scales of a scene's pyramid.
+std::size_t scale_count(const ScenePlans& scene) {
+  const scene::SceneDescription& d = scene.integrand->scene().description();
+  return pyramid_block_sizes(d.width, d.height, PyramidOptions{}.tile).size();
+}
+
+// The power curves: each compared scene's first pair; the brightest block at each scale (the
+// session's self-check), then the fixed centre block at each scale (no selection: the MDB's own
+// promise).
+std::vector<CurveSpec> curve_specs(const TileCalibrationOptions& options,
+                                   const std::vector<ComparisonSpec>& specs,
+                                   const std::vector<ScenePlans>& scenes) {
+  std::vector<CurveSpec> curves;
+  if (options.bias_multipliers.empty()) return curves;
+  for (std::size_t r = 0; r < specs.size(); ++r) {
+    if (specs[r].b < 0 || (r > 0 && specs[r - 1].scene == specs[r].scene)) continue;
+    const std::size_t scales = scale_count(scenes[specs[r].scene]);
+    for (const InjectionRule rule : {InjectionRule::kBrightest, InjectionRule::kCentre}) {
+      for (std::size_t s = 0; s < scales; ++s) curves.push_back({r, s, rule});
     }
-    out.push_back(std::move(c));
+  }
+  return curves;
+}
+
+// The comparison's pyramid, decided alone at alpha, with `a` as its first side.
+PyramidResult compare(const ComparisonSpec& spec, const std::vector<Image>& a,
+                      const SeedImages& images, const std::vector<ScenePlans>& scenes,
+                      double alpha) {
+  if (spec.b < 0) return test_blocks_against_exact(a, *scenes[spec.scene].exact, alpha);
+  return compare_blocks(a, images[spec.scene][static_cast<std::size_t>(spec.b)], alpha);
+}
+
+// One seed: every run, every comparison, every curve's injections.
+SeedOutcome run_seed(std::uint64_t seed, const TileCalibrationOptions& options,
+                     const std::vector<ScenePlans>& scenes,
+                     const std::vector<ComparisonSpec>& specs,
+                     const std::vector<CurveSpec>& curves) {
+  SeedImages images(scenes.size());
+  for (std::size_t s = 0; s < scenes.size(); ++s) {
+    for (const RunPlan* plan : scenes[s].runs) {
+      images[s].push_back(render(*plan, seed, options.interrupted));
+    }
+  }
+  SeedOutcome out;
+  std::vector<PyramidResult> tests;
+  for (const ComparisonSpec& spec : specs) {
+    const std::vector<Image>& a = images[spec.scene][spec.a];
+    tests.push_back(compare(spec, a, images, scenes, options.test_alpha));
+    out.rows.push_back(size_seed(tests.back(), a.front().width, a.front().height));
+  }
+  for (const CurveSpec& curve : curves) {
+    const ComparisonSpec& spec = specs[curve.row];
+    const Retest retest = [&](const std::vector<Image>& biased) {
+      return compare(spec, biased, images, scenes, options.test_alpha);
+    };
+    out.power.push_back(inject_own_mdb(tests[curve.row], curve.scale, curve.rule,
+                                       images[spec.scene][spec.a], retest, options.bias_multipliers,
+                                       options.test_alpha));
   }
   return out;
 }
 
-struct Decision {
-  bool tile = false;    // the injected tile's raw p <= share
-  bool family = false;  // the comparison rejects
-  double tile_p = 1.0;
-};
-
-// The comparison with `bias` in the injected tile, decided from the kept crops: the tile's test
-// is compare_tiles' own on the crop (its tile means sum the same pixels in the same order), and
-// the comparison rejects when Holm's smallest adjusted p, min(1, T × the smallest raw p), is
-// <= α. inject_own_mdb checks on every seed that this is the whole comparison's decision.
-Decision decide_on_crop(const PowerSeed& p, double bias, std::uint32_t tests, double share,
-                        double alpha) {
-  BlockTest local = p.tile;
-  local.x = local.y = 0;
-  const ScaleTests t =
-      compare_tiles(with_block_bias(p.crop_a, local, PyramidOptions{}.tile, bias), p.crop_b, alpha);
-  Decision d;
-  d.tile_p = t.tests.at(p.tile.channel).p_value;
-  d.tile = d.tile_p <= share;
-  d.family = std::min(1.0, std::min(p.other_min_p, d.tile_p) * static_cast<double>(tests)) <= alpha;
-  return d;
-}
-
-// k × the seed's own reported MDB of tile `index` into a's images, for every k.
-PowerSeed inject_own_mdb(const ScaleTests& t, std::size_t index, const std::vector<Image>& a,
-                         const std::vector<Image>& b, const TileCalibrationOptions& options) {
-  // The comparison is decided alone, so its tile threshold is Holm's first, α / T, and the
-  // reported MDB is m × the tile's standard error with m at that threshold.
-  const double share = options.test_alpha / static_cast<double>(t.tests.size());
-  PowerSeed p;
-  p.tile_index = index;
-  p.tile = t.tests.at(index);
-  const BlockTest& tile = p.tile;
-  p.mdb = tile.min_detectable_bias;
-  p.multiplier = detectable_multiplier(share, tile.dof, PyramidOptions{}.power);
-  p.stderr_of_difference = p.mdb / p.multiplier;
-  // The MDB must be the one this decision implies, the statistic's own standard error times m;
-  // otherwise the power below would be predicted for another threshold.
-  if (tile.statistic != 0.0 && std::isfinite(tile.statistic) && std::isfinite(p.mdb)) {
-    const double se = (tile.mean_a - tile.mean_b) / tile.statistic;
-    if (!(std::fabs(se - p.stderr_of_difference) <= 1e-9 * se)) {
-      throw std::logic_error(
-          fmt::format("tile calibration: the reported MDB {} is not m(alpha/T = {}) x stderr {}",
-                      p.mdb, share, se));
-    }
+// The scene, the image size, the estimators and the runs of a row or a curve.
+template <class Entry>
+void identify(Entry& entry, const ComparisonSpec& spec, const std::vector<ScenePlans>& scenes,
+              const TileCalibrationOptions& options) {
+  const ScenePlans& scene = scenes[spec.scene];
+  const scene::SceneDescription& d = scene.integrand->scene().description();
+  entry.scene = options.scenes[spec.scene];
+  entry.width = d.width;
+  entry.height = d.height;
+  const RunPlan& a = *scene.runs[spec.a];
+  entry.estimator_a = a.estimator->name;
+  entry.run_a = a.id;
+  if (spec.b < 0) {
+    entry.estimator_b = entry.run_b = "exact";
+  } else {
+    const RunPlan& b = *scene.runs[static_cast<std::size_t>(spec.b)];
+    entry.estimator_b = b.estimator->name;
+    entry.run_b = b.id;
   }
-  p.crop_a = crop(a, tile);
-  p.crop_b = crop(b, tile);
-  for (std::size_t k = 0; k < t.tests.size(); ++k) {
-    if (k != index) p.other_min_p = std::min(p.other_min_p, t.tests[k].p_value);
-  }
-  for (const double k : options.bias_multipliers) {
-    const ScaleTests shifted = compare_tiles(
-        with_block_bias(a, tile, PyramidOptions{}.tile, k * p.mdb), b, options.test_alpha);
-    p.detected.push_back(shifted.min_p_adjusted <= options.test_alpha);
-    p.tile_detected.push_back(tile_rejects(shifted, index, share));
-    // A tile known exactly detects any bias.
-    p.predicted.push_back(p.mdb > 0.0 ? shifted_t_power(k * p.multiplier, tile.dof, share) : 1.0);
-    const Decision cropped = decide_on_crop(
-        p, k * p.mdb, static_cast<std::uint32_t>(t.tests.size()), share, options.test_alpha);
-    if (cropped.tile_p != shifted.tests[index].p_value ||
-        cropped.family != (shifted.min_p_adjusted <= options.test_alpha)) {
-      throw std::logic_error("tile calibration: the cropped tile does not decide as the image");
-    }
-  }
-  return p;
-}
-
-// Fills a row's counts and tests from its per-seed values.
-void test_row(TileSizeRow& row, const TileCalibrationOptions& o) {
-  row.seeds = static_cast<std::uint32_t>(row.min_p_adjusted.size());
-  row.false_alarms =
-      static_cast<std::uint64_t>(std::count_if(row.min_p_adjusted.begin(), row.min_p_adjusted.end(),
-                                               [&](double p) { return p <= o.test_alpha; }));
-  row.expected_false_alarms = static_cast<double>(row.seeds) * o.test_alpha;
-  row.false_alarm_rate = static_cast<double>(row.false_alarms) / row.seeds;
-  const ProportionInterval ci = wilson_interval(row.false_alarms, row.seeds, kConfidence);
-  row.wilson_low = ci.low;
-  row.wilson_high = ci.high;
-  row.binomial_p_value = binomial_test_p_value(row.false_alarms, row.seeds, o.test_alpha);
-  row.binomial_upper_p_value = binomial_upper_p_value(row.false_alarms, row.seeds, o.test_alpha);
-  row.fixed_tile_ks = ks_uniform(row.fixed_tile_p_values);
-  row.pass = row.binomial_upper_p_value >= o.pass_threshold &&
-             row.fixed_tile_ks.p_value >= o.pass_threshold;
 }
 
 TileSizeRow size_row(const ComparisonSpec& spec, std::size_t r,
                      const std::vector<ScenePlans>& scenes,
                      const std::vector<SeedOutcome>& outcomes,
                      const TileCalibrationOptions& options) {
-  const ScenePlans& scene = scenes[spec.scene];
-  const scene::SceneDescription& d = scene.integrand->scene().description();
+  std::vector<SizeSeed> seeds;
+  for (const SeedOutcome& o : outcomes) seeds.push_back(o.rows[r]);
   TileSizeRow row;
-  row.scene = options.scenes[spec.scene];
-  row.width = d.width;
-  row.height = d.height;
-  const RunPlan& a = *scene.runs[spec.a];
-  row.estimator_a = a.estimator->name;
-  row.run_a = a.id;
-  row.biased = a.estimator->biased;
-  if (spec.b < 0) {
-    row.estimator_b = row.run_b = "exact";
-  } else {
-    const RunPlan& b = *scene.runs[static_cast<std::size_t>(spec.b)];
-    row.estimator_b = b.estimator->name;
-    row.run_b = b.id;
-    row.biased = row.biased || b.estimator->biased;
-  }
-  const RowSeed& first = outcomes.front().rows[r];
-  row.tests = first.tests;
-  row.fixed_tile_x = first.fixed.x;
-  row.fixed_tile_y = first.fixed.y;
-  row.fixed_channel = first.fixed.channel;
-  std::vector<double> bright;
-  for (const SeedOutcome& o : outcomes) {
-    row.min_p_adjusted.push_back(o.rows[r].min_p_adjusted);
-    row.fixed_tile_p_values.push_back(o.rows[r].fixed.p_value);
-    bright.push_back(o.rows[r].bright_relative_mdb);
-  }
-  row.median_bright_relative_mdb = median(std::move(bright));
-  test_row(row, options);
+  static_cast<PyramidSizeRow&>(row) =
+      pyramid_size_row(seeds, options.test_alpha, options.pass_threshold);
+  identify(row, spec, scenes, options);
+  const ScenePlans& scene = scenes[spec.scene];
+  row.biased = scene.runs[spec.a]->estimator->biased ||
+               (spec.b >= 0 && scene.runs[static_cast<std::size_t>(spec.b)]->estimator->biased);
   return row;
 }
 
-// A curve's summary of its injected tiles over the seeds (not yet its points).
-TilePowerCurve power_curve(const CurveSpec& spec, std::size_t c, const TileSizeRow& row,
-                           const std::vector<SeedOutcome>& outcomes, double test_alpha) {
+TilePowerCurve power_curve(const CurveSpec& spec, std::size_t c,
+                           const std::vector<ComparisonSpec>& specs,
+                           const std::vector<ScenePlans>& scenes,
+                           const std::vector<SeedOutcome>& outcomes,
+                           const TileCalibrationOptions& options) {
+  std::vector<InjectionSeed> seeds;
+  for (const SeedOutcome& o : outcomes) seeds.push_back(o.power[c]);
   TilePowerCurve curve;
-  curve.scene = row.scene;
-  curve.width = row.width;
-  curve.height = row.height;
-  curve.estimator_a = row.estimator_a;
-  curve.estimator_b = row.estimator_b;
-  curve.run_a = row.run_a;
-  curve.run_b = row.run_b;
-  curve.tile_rule = spec.rule == InjectionRule::kBrightest ? "brightest" : "centre";
-  curve.seeds = static_cast<std::uint32_t>(outcomes.size());
-  curve.tests = row.tests;
-  curve.share = test_alpha / static_cast<double>(row.tests);
-  std::vector<double> mdbs, dofs, relative;
-  double se2 = 0.0, statistic = 0.0;
-  std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, std::uint32_t> tiles;
-  for (const SeedOutcome& o : outcomes) {
-    const PowerSeed& p = o.power[c];
-    mdbs.push_back(p.mdb);
-    dofs.push_back(p.tile.dof);
-    const double tile_mean = 0.5 * (p.tile.mean_a + p.tile.mean_b);
-    if (tile_mean > 0.0) relative.push_back(p.mdb / tile_mean);
-    se2 += p.stderr_of_difference * p.stderr_of_difference;
-    statistic += p.tile.statistic;
-    ++tiles[{p.tile.x, p.tile.y, p.tile.channel}];
-  }
-  const double seeds = static_cast<double>(outcomes.size());
-  curve.median_mdb = median(mdbs);
-  curve.median_dof = median(dofs);
-  curve.median_relative_mdb = median(relative);
-  curve.rms_stderr = std::sqrt(se2 / seeds);
-  curve.mean_statistic = statistic / seeds;
-  for (const auto& [key, count] : tiles) {
-    curve.injected_tiles.push_back({std::get<0>(key), std::get<1>(key), std::get<2>(key), count});
-  }
-  std::stable_sort(curve.injected_tiles.begin(), curve.injected_tiles.end(),
-                   [](const InjectedTile& x, const InjectedTile& y) { return x.seeds > y.seeds; });
+  static_cast<ScalePowerCurve&>(curve) =
+      scale_power_curve(seeds, spec.rule, spec.scale, options.bias_multipliers);
+  identify(curve, specs[spec.row], scenes, options);
   return curve;
-}
-
-// The curve's points from the seeds' detections.
-void count_points(TilePowerCurve& curve, std::size_t c, const std::vector<SeedOutcome>& outcomes,
-                  const TileCalibrationOptions& options) {
-  const auto rate = [&](std::uint32_t count, double& value, double& low, double& high) {
-    value = static_cast<double>(count) / curve.seeds;
-    const ProportionInterval ci = wilson_interval(count, curve.seeds, kConfidence);
-    low = ci.low;
-    high = ci.high;
-  };
-  for (std::size_t j = 0; j < options.bias_multipliers.size(); ++j) {
-    TilePowerPoint point;
-    point.multiplier = options.bias_multipliers[j];
-    point.fixed_bias = point.multiplier * curve.median_mdb;
-    double predicted = 0.0;
-    for (const SeedOutcome& o : outcomes) {
-      const PowerSeed& p = o.power[c];
-      point.detections += p.detected[j] ? 1 : 0;
-      point.tile_detections += p.tile_detected[j] ? 1 : 0;
-      point.fixed_detections += p.fixed_detected[j] ? 1 : 0;
-      point.fixed_tile_detections += p.fixed_tile_detected[j] ? 1 : 0;
-      predicted += p.predicted[j];
-    }
-    rate(point.detections, point.detection_rate, point.wilson_low, point.wilson_high);
-    rate(point.tile_detections, point.tile_detection_rate, point.tile_wilson_low,
-         point.tile_wilson_high);
-    rate(point.fixed_detections, point.fixed_detection_rate, point.fixed_wilson_low,
-         point.fixed_wilson_high);
-    rate(point.fixed_tile_detections, point.fixed_tile_detection_rate, point.fixed_tile_wilson_low,
-         point.fixed_tile_wilson_high);
-    point.predicted_power = predicted / curve.seeds;
-    point.fixed_predicted_power =
-        curve.rms_stderr > 0.0
-            ? noncentral_t_power(point.fixed_bias / curve.rms_stderr, curve.median_dof, curve.share)
-            : 1.0;
-    curve.points.push_back(point);
-  }
 }
 
 double elapsed_since(std::chrono::steady_clock::time_point start) {
@@ -484,77 +303,18 @@ TileCalibrationResult calibrate_tiles(const TileCalibrationOptions& options) {
   std::vector<RunPlan> plans;
   const std::vector<ScenePlans> scenes = plan_scenes(options, plans);
   const std::vector<ComparisonSpec> specs = comparison_specs(options, scenes);
-  // The power curves: each compared scene's first pair, with the bias in the brightest tile (the
-  // session's self-check) and in the fixed centre tile (no selection: the MDB's own promise).
-  std::vector<CurveSpec> curves;
-  if (!options.bias_multipliers.empty()) {
-    for (std::size_t r = 0; r < specs.size(); ++r) {
-      if (specs[r].b < 0 || (r > 0 && specs[r - 1].scene == specs[r].scene)) continue;
-      for (const InjectionRule rule : {InjectionRule::kBrightest, InjectionRule::kCentre}) {
-        curves.push_back({r, rule});
-      }
-    }
-  }
-
-  // Every seed: every run, every comparison, the per-seed-MDB injections.
+  const std::vector<CurveSpec> curves = curve_specs(options, specs, scenes);
   std::vector<SeedOutcome> outcomes(options.seeds);
   tbb::parallel_for(std::uint32_t{0}, options.seeds, [&](std::uint32_t i) {
-    const std::uint64_t seed = options.first_seed + i;
-    std::vector<std::vector<std::vector<Image>>> images(scenes.size());
-    for (std::size_t s = 0; s < scenes.size(); ++s) {
-      for (const RunPlan* plan : scenes[s].runs) {
-        images[s].push_back(render(*plan, seed, options.interrupted));
-      }
-    }
-    SeedOutcome& out = outcomes[i];
-    std::vector<ScaleTests> tests;
-    for (const ComparisonSpec& spec : specs) {
-      const std::vector<Image>& a = images[spec.scene][spec.a];
-      const ScaleTests t =
-          spec.b < 0 ? test_tiles_against_exact(a, *scenes[spec.scene].exact, options.test_alpha)
-                     : compare_tiles(a, images[spec.scene][static_cast<std::size_t>(spec.b)],
-                                     options.test_alpha);
-      out.rows.push_back({.min_p_adjusted = t.min_p_adjusted,
-                          .bright_relative_mdb = t.worst_bright_relative_mdb,
-                          .tests = static_cast<std::uint32_t>(t.tests.size()),
-                          .fixed = centre_tile(t, a.front().width, a.front().height)});
-      tests.push_back(t);
-    }
-    for (const CurveSpec& curve : curves) {
-      const ComparisonSpec& spec = specs[curve.row];
-      const std::vector<Image>& a = images[spec.scene][spec.a];
-      const std::vector<Image>& b = images[spec.scene][static_cast<std::size_t>(spec.b)];
-      const ScaleTests& t = tests[curve.row];
-      const BlockTest& tile = curve.rule == InjectionRule::kBrightest
-                                  ? brightest_block(t)
-                                  : centre_tile(t, a.front().width, a.front().height);
-      out.power.push_back(
-          inject_own_mdb(t, static_cast<std::size_t>(&tile - t.tests.data()), a, b, options));
-    }
+    outcomes[i] = run_seed(options.first_seed + i, options, scenes, specs, curves);
   });
-
   for (std::size_t r = 0; r < specs.size(); ++r) {
     result.rows.push_back(size_row(specs[r], r, scenes, outcomes, options));
   }
   result.pass = std::all_of(result.rows.begin(), result.rows.end(),
                             [](const TileSizeRow& row) { return row.pass; });
-
-  // The fixed δ_k needs the median MDB over every seed first, then a second pass over the kept
-  // crops.
   for (std::size_t c = 0; c < curves.size(); ++c) {
-    TilePowerCurve curve =
-        power_curve(curves[c], c, result.rows[curves[c].row], outcomes, options.test_alpha);
-    tbb::parallel_for(std::uint32_t{0}, options.seeds, [&](std::uint32_t i) {
-      PowerSeed& p = outcomes[i].power[c];
-      for (const double k : options.bias_multipliers) {
-        const Decision d =
-            decide_on_crop(p, k * curve.median_mdb, curve.tests, curve.share, options.test_alpha);
-        p.fixed_detected.push_back(d.family);
-        p.fixed_tile_detected.push_back(d.tile);
-      }
-    });
-    count_points(curve, c, outcomes, options);
-    result.power.push_back(std::move(curve));
+    result.power.push_back(power_curve(curves[c], c, specs, scenes, outcomes, options));
   }
   result.wall_seconds = elapsed_since(start);
   return result;
@@ -572,6 +332,35 @@ Json numbers(const std::vector<double>& values) {
   return out;
 }
 
+void add_false_alarms(Json& j, const FalseAlarms& f) {
+  j["seeds"] = f.seeds;
+  j["false_alarms"] = f.false_alarms;
+  j["false_alarm_rate"] = number(f.false_alarm_rate);
+  j["wilson_low"] = number(f.wilson_low);
+  j["wilson_high"] = number(f.wilson_high);
+  j["binomial_p_value"] = number(f.binomial_p_value);
+  j["binomial_upper_p_value"] = number(f.binomial_upper_p_value);
+}
+
+Json scale_row_json(const ScaleSizeRow& s) {
+  Json j = Json::object();
+  j["block"] = s.block;
+  j["tests"] = s.tests;
+  add_false_alarms(j, s);
+  j["expected_share"] = number(s.expected_share);
+  j["expected_false_alarms"] = number(s.expected_false_alarms);
+  j["centre_block"] = {{"x", s.centre_x},
+                       {"y", s.centre_y},
+                       {"channel", s.centre_channel},
+                       {"ks_statistic", number(s.centre_ks.statistic)},
+                       {"ks_p_value", number(s.centre_ks.p_value)},
+                       {"p_values", numbers(s.centre_p_values)}};
+  j["median_bright_relative_mdb"] = number(s.median_bright_relative_mdb);
+  j["pass"] = s.pass;
+  j["min_p_adjusted"] = numbers(s.min_p_adjusted);
+  return j;
+}
+
 Json row_json(const TileSizeRow& row) {
   Json j = Json::object();
   j["scene"] = row.scene;
@@ -582,60 +371,37 @@ Json row_json(const TileSizeRow& row) {
   j["run_a"] = row.run_a;
   j["run_b"] = row.run_b;
   j["biased"] = row.biased;
-  j["seeds"] = row.seeds;
   j["tests"] = row.tests;
-  j["false_alarms"] = row.false_alarms;
+  add_false_alarms(j, row);
   j["expected_false_alarms"] = number(row.expected_false_alarms);
-  j["false_alarm_rate"] = number(row.false_alarm_rate);
-  j["wilson_low"] = number(row.wilson_low);
-  j["wilson_high"] = number(row.wilson_high);
-  j["binomial_p_value"] = number(row.binomial_p_value);
-  j["binomial_upper_p_value"] = number(row.binomial_upper_p_value);
-  j["fixed_tile"] = {{"tile_x", row.fixed_tile_x},
-                     {"tile_y", row.fixed_tile_y},
-                     {"channel", row.fixed_channel},
-                     {"ks_statistic", number(row.fixed_tile_ks.statistic)},
-                     {"ks_p_value", number(row.fixed_tile_ks.p_value)},
-                     {"p_values", numbers(row.fixed_tile_p_values)}};
-  j["median_bright_relative_mdb"] = number(row.median_bright_relative_mdb);
   j["pass"] = row.pass;
+  Json scales = Json::array();
+  for (const ScaleSizeRow& s : row.scales) scales.push_back(scale_row_json(s));
+  j["scales"] = std::move(scales);
   j["min_p_adjusted"] = numbers(row.min_p_adjusted);
   return j;
 }
 
-Json point_json(const TilePowerPoint& p) {
-  Json j = Json::object();
-  j["multiplier"] = number(p.multiplier);
-  j["own_mdb"] = {{"detections", p.detections},
-                  {"detection_rate", number(p.detection_rate)},
-                  {"wilson_low", number(p.wilson_low)},
-                  {"wilson_high", number(p.wilson_high)},
-                  {"tile_detections", p.tile_detections},
-                  {"tile_detection_rate", number(p.tile_detection_rate)},
-                  {"tile_wilson_low", number(p.tile_wilson_low)},
-                  {"tile_wilson_high", number(p.tile_wilson_high)},
-                  {"predicted_power", number(p.predicted_power)}};
-  j["fixed_bias"] = {{"bias", number(p.fixed_bias)},
-                     {"detections", p.fixed_detections},
-                     {"detection_rate", number(p.fixed_detection_rate)},
-                     {"wilson_low", number(p.fixed_wilson_low)},
-                     {"wilson_high", number(p.fixed_wilson_high)},
-                     {"tile_detections", p.fixed_tile_detections},
-                     {"tile_detection_rate", number(p.fixed_tile_detection_rate)},
-                     {"tile_wilson_low", number(p.fixed_tile_wilson_low)},
-                     {"tile_wilson_high", number(p.fixed_tile_wilson_high)},
-                     {"predicted_power", number(p.fixed_predicted_power)}};
-  return j;
+Json point_json(const BlockPowerPoint& p) {
+  return Json{{"multiplier", number(p.multiplier)},
+              {"detections", p.detections},
+              {"detection_rate", number(p.detection_rate)},
+              {"wilson_low", number(p.wilson_low)},
+              {"wilson_high", number(p.wilson_high)},
+              {"block_detections", p.block_detections},
+              {"block_detection_rate", number(p.block_detection_rate)},
+              {"block_wilson_low", number(p.block_wilson_low)},
+              {"block_wilson_high", number(p.block_wilson_high)},
+              {"predicted_power", number(p.predicted_power)}};
 }
 
 Json curve_json(const TilePowerCurve& c) {
-  Json tiles = Json::array();
-  for (const InjectedTile& t : c.injected_tiles) {
-    tiles.push_back(Json{
-        {"tile_x", t.tile_x}, {"tile_y", t.tile_y}, {"channel", t.channel}, {"seeds", t.seeds}});
+  Json blocks = Json::array();
+  for (const InjectedBlock& b : c.injected_blocks) {
+    blocks.push_back(Json{{"x", b.x}, {"y", b.y}, {"channel", b.channel}, {"seeds", b.seeds}});
   }
   Json points = Json::array();
-  for (const TilePowerPoint& p : c.points) points.push_back(point_json(p));
+  for (const BlockPowerPoint& p : c.points) points.push_back(point_json(p));
   return Json{{"scene", c.scene},
               {"width", c.width},
               {"height", c.height},
@@ -643,17 +409,83 @@ Json curve_json(const TilePowerCurve& c) {
               {"estimator_b", c.estimator_b},
               {"run_a", c.run_a},
               {"run_b", c.run_b},
-              {"tile_rule", c.tile_rule},
-              {"seeds", c.seeds},
+              {"block_rule", c.block_rule},
+              {"scale", c.scale},
+              {"block", c.block},
               {"tests", c.tests},
+              {"pyramid_tests", c.pyramid_tests},
+              {"seeds", c.seeds},
               {"share", number(c.share)},
               {"median_mdb", number(c.median_mdb)},
               {"median_relative_mdb", number(c.median_relative_mdb)},
               {"rms_stderr", number(c.rms_stderr)},
               {"median_dof", number(c.median_dof)},
               {"mean_statistic", number(c.mean_statistic)},
-              {"injected_tiles", std::move(tiles)},
+              {"injected_blocks", std::move(blocks)},
               {"points", std::move(points)}};
+}
+
+std::string interval(double rate, double low, double high) {
+  return fmt::format("{:.3f} [{:.3f}, {:.3f}]", rate, low, high);
+}
+
+std::string scale_name(std::uint32_t block, bool whole) {
+  return whole ? fmt::format("{} px (whole image)", block) : fmt::format("{} px", block);
+}
+
+void print_size_table(const TileCalibrationResult& result, std::ostream& out) {
+  const TileCalibrationOptions& o = result.options;
+  out << fmt::format(
+      "Block pyramid calibration: seeds {}..{}, {} replicate images x {} spp; each comparison "
+      "decided alone at alpha = {} over its pyramid (weighted Holm: each of L scales alpha / L, "
+      "each of its n_s block tests alpha / (L n_s)); a scale's false alarm is the comparison "
+      "rejecting through that scale; a row passes when its one-sided binomial p against alpha, "
+      "and at every scale that p and its centre block's KS p, are >= {}\n",
+      o.first_seed, o.first_seed + o.seeds - 1, o.replicates, o.samples, o.test_alpha,
+      o.pass_threshold);
+  out << fmt::format("{:<14} {:<44} {:>5} {:>12} {:>22} {:>8} {:>9} {:>9} {:>9}  {}\n", "scene",
+                     "comparison / scale (its share alpha / L)", "tests", "false alarms",
+                     "rate [95% Wilson]", "expected", "binom p", "upper p", "centre KS", "pass");
+  const auto line = [&](const std::string& scene, const std::string& name, std::uint32_t tests,
+                        const FalseAlarms& f, double expected, const std::string& ks, bool pass) {
+    out << fmt::format("{:<14} {:<44} {:>5} {:>12} {:>22} {:>8.1f} {:>9.3g} {:>9.3g} {:>9}  {}\n",
+                       scene, name, tests, fmt::format("{} / {}", f.false_alarms, f.seeds),
+                       interval(f.false_alarm_rate, f.wilson_low, f.wilson_high), expected,
+                       f.binomial_p_value, f.binomial_upper_p_value, ks, pass ? "yes" : "NO");
+  };
+  for (const TileSizeRow& row : result.rows) {
+    line(fmt::format("{} {}x{}", row.scene, row.width, row.height),
+         fmt::format("{} vs {}{}", row.estimator_a, row.estimator_b, row.biased ? " (biased)" : ""),
+         row.tests, row, row.expected_false_alarms, "", row.pass);
+    for (std::size_t s = 0; s < row.scales.size(); ++s) {
+      const ScaleSizeRow& scale = row.scales[s];
+      line("",
+           fmt::format("  {}, share {:.3g}", scale_name(scale.block, s + 1 == row.scales.size()),
+                       scale.expected_share),
+           scale.tests, scale, scale.expected_false_alarms,
+           fmt::format("{:.3g}", scale.centre_ks.p_value), scale.pass);
+    }
+  }
+  out << fmt::format("pyramid calibration: {}\n", result.pass ? "pass" : "FAIL");
+}
+
+// One curve: its scale's line, then a line per k.
+void print_curve(const TilePowerCurve& c, bool whole, std::ostream& out) {
+  const InjectedBlock& top = c.injected_blocks.front();
+  out << fmt::format(
+      "  {}: {} tests, share {:.3g}; block {},{} channel {} in {} of {} seeds; median dof "
+      "{:.1f}, median MDB {:.4g} ({:.3g}% of the block mean), RMS stderr {:.4g}, mean statistic "
+      "before the bias {:.3f}\n",
+      scale_name(c.block, whole), c.tests, c.share, top.x, top.y, top.channel, top.seeds, c.seeds,
+      c.median_dof, c.median_mdb, 100.0 * c.median_relative_mdb, c.rms_stderr, c.mean_statistic);
+  for (const BlockPowerPoint& p : c.points) {
+    out << fmt::format(
+        "    k = {:<4} detected {:>9} {:>22}   block alone {:>22}   predicted {:.3f}\n",
+        p.multiplier, fmt::format("{}/{}", p.detections, c.seeds),
+        interval(p.detection_rate, p.wilson_low, p.wilson_high),
+        interval(p.block_detection_rate, p.block_wilson_low, p.block_wilson_high),
+        p.predicted_power);
+  }
 }
 
 }  // namespace
@@ -677,6 +509,7 @@ nlohmann::ordered_json tile_calibration_json(const TileCalibrationResult& result
   j["test_alpha"] = o.test_alpha;
   j["tile"] = PyramidOptions{}.tile;
   j["power"] = PyramidOptions{}.power;
+  j["bias_multipliers"] = o.bias_multipliers;
   j["pass_threshold"] = o.pass_threshold;
   j["pass"] = result.pass;
   j["rows"] = std::move(rows);
@@ -686,62 +519,24 @@ nlohmann::ordered_json tile_calibration_json(const TileCalibrationResult& result
 }
 
 void print_tile_calibration(const TileCalibrationResult& result, std::ostream& out) {
-  const TileCalibrationOptions& o = result.options;
-  out << fmt::format(
-      "Tile calibration: seeds {}..{}, {} replicate images x {} spp; each comparison decided "
-      "alone at alpha = {} (rejected when some tile p <= alpha / T); a row passes when its "
-      "one-sided binomial p and its fixed tile's KS p are >= {}\n",
-      o.first_seed, o.first_seed + o.seeds - 1, o.replicates, o.samples, o.test_alpha,
-      o.pass_threshold);
-  out << fmt::format("{:<16} {:<44} {:>4} {:>12} {:>22} {:>8} {:>9} {:>9} {:>9}  {}\n", "scene",
-                     "comparison", "T", "false alarms", "rate [95% Wilson]", "expected", "binom p",
-                     "upper p", "tile KS p", "pass");
-  for (const TileSizeRow& row : result.rows) {
-    const std::string name =
-        fmt::format("{} vs {}{}", row.estimator_a, row.estimator_b, row.biased ? " (biased)" : "");
-    out << fmt::format(
-        "{:<16} {:<44} {:>4} {:>12} {:>22} {:>8.1f} {:>9.3g} {:>9.3g} {:>9.3g}  {}\n",
-        fmt::format("{} {}x{}", row.scene, row.width, row.height), name, row.tests,
-        fmt::format("{} / {}", row.false_alarms, row.seeds),
-        fmt::format("{:.3f} [{:.3f}, {:.3f}]", row.false_alarm_rate, row.wilson_low,
-                    row.wilson_high),
-        row.expected_false_alarms, row.binomial_p_value, row.binomial_upper_p_value,
-        row.fixed_tile_ks.p_value, row.pass ? "yes" : "NO");
-  }
-  out << fmt::format("tile calibration: {}\n", result.pass ? "pass" : "FAIL");
-  for (const TilePowerCurve& c : result.power) {
-    const InjectedTile& top = c.injected_tiles.front();
-    const std::string where =
-        c.tile_rule == "brightest"
-            ? fmt::format(
-                  "brightest tile (the self-check's rule; tile {},{} channel {} in {} "
-                  "of {} seeds)",
-                  top.tile_x, top.tile_y, top.channel, top.seeds, c.seeds)
-            : fmt::format("centre tile {},{} channel {} (fixed)", top.tile_x, top.tile_y,
-                          top.channel);
-    out << fmt::format(
-        "\nPower on {} ({}x{}), bias into {}'s {} against {}: T = {}, tile threshold alpha/T = "
-        "{:.3g}, median Welch dof {:.1f}, median MDB {:.4g} ({:.2f}% of the tile mean), RMS "
-        "stderr {:.4g}, mean statistic before the bias {:.3f}\n",
-        c.scene, c.width, c.height, c.estimator_a, where, c.estimator_b, c.tests, c.share,
-        c.median_dof, c.median_mdb, 100.0 * c.median_relative_mdb, c.rms_stderr, c.mean_statistic);
-    out << fmt::format("{:>5} | {:>9} {:>22} {:>22} {:>9} | {:>10} {:>9} {:>22} {:>22} {:>9}\n",
-                       "k", "k x MDB", "detected [Wilson]", "tile alone", "predicted", "fixed bias",
-                       "detected", "rate [Wilson]", "tile alone", "predicted");
-    const auto interval = [](double rate, double low, double high) {
-      return fmt::format("{:.3f} [{:.3f}, {:.3f}]", rate, low, high);
-    };
-    for (const TilePowerPoint& p : c.points) {
+  print_size_table(result, out);
+  for (std::size_t c = 0; c < result.power.size(); ++c) {
+    const TilePowerCurve& curve = result.power[c];
+    const bool first = c == 0 || result.power[c - 1].block_rule != curve.block_rule ||
+                       result.power[c - 1].run_a != curve.run_a;
+    if (first) {
       out << fmt::format(
-          "{:>5.2f} | {:>9} {:>22} {:>22} {:>9.3f} | {:>10.4g} {:>9} {:>22} {:>22} {:>9.3f}\n",
-          p.multiplier, fmt::format("{}/{}", p.detections, c.seeds),
-          interval(p.detection_rate, p.wilson_low, p.wilson_high),
-          interval(p.tile_detection_rate, p.tile_wilson_low, p.tile_wilson_high), p.predicted_power,
-          p.fixed_bias, fmt::format("{}/{}", p.fixed_detections, c.seeds),
-          interval(p.fixed_detection_rate, p.fixed_wilson_low, p.fixed_wilson_high),
-          interval(p.fixed_tile_detection_rate, p.fixed_tile_wilson_low, p.fixed_tile_wilson_high),
-          p.fixed_predicted_power);
+          "\nPower on {} ({}x{}): a bias of k x the comparison's own MDB of the {} at each scale "
+          "in {}'s images, against {}; the pyramid of {} tests decided alone at alpha = {}; "
+          "detected: the pyramid rejects; block alone: its own raw p <= its share; predicted: "
+          "shifted t\n",
+          curve.scene, curve.width, curve.height,
+          curve.block_rule == "brightest" ? "brightest block (the self-check's rule)"
+                                          : "centre block, green (fixed)",
+          curve.estimator_a, curve.estimator_b, curve.pyramid_tests, result.options.test_alpha);
     }
+    const bool whole = c + 1 == result.power.size() || result.power[c + 1].scale == 0;
+    print_curve(curve, whole, out);
   }
 }
 

@@ -40,7 +40,7 @@ struct PyramidOptions {
   // optimistic). 1 for a comparison decided alone.
   std::uint32_t family_size = 1;
   // How many scales to test, finest first; 0: every scale up to the whole image. 1 tests the
-  // tiles alone (the tile calibration's decisions on a crop around one tile).
+  // tiles alone.
   std::uint32_t max_scales = 0;
 };
 

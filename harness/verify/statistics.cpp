@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/non_central_t.hpp>
+#include <boost/math/distributions/normal.hpp>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
@@ -444,6 +445,18 @@ void decide_family(std::vector<Verdict*>& verdicts, double alpha) {
     v.min_detectable_rel_bias =
         v.reference_value != 0.0 ? v.min_detectable_bias / std::fabs(v.reference_value) : kNaN;
   }
+}
+
+ProportionInterval wilson_interval(std::uint64_t successes, std::uint64_t trials,
+                                   double confidence) {
+  if (trials == 0) return {0.0, 1.0};
+  const double z = boost::math::quantile(boost::math::normal(), 1.0 - (1.0 - confidence) / 2.0);
+  const double n = static_cast<double>(trials);
+  const double k = static_cast<double>(successes);
+  const double z2 = z * z;
+  const double centre = (k + z2 / 2.0) / (n + z2);
+  const double half = z / (n + z2) * std::sqrt(k * (n - k) / n + z2 / 4.0);
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
 }
 
 }  // namespace pcbench

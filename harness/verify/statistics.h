@@ -201,4 +201,13 @@ double noncentral_t_power(double ncp, double dof, double share);
 // (less the far tail's ~0), which is what the minimum detectable bias promises.
 double shifted_t_power(double shift, double dof, double share);
 
+// Wilson score interval of a binomial proportion at two-sided confidence `confidence` (0.95 for
+// 95%). {0, 1} when trials is 0.
+struct ProportionInterval {
+  double low = 0.0;
+  double high = 1.0;
+};
+ProportionInterval wilson_interval(std::uint64_t successes, std::uint64_t trials,
+                                   double confidence);
+
 }  // namespace pcbench
