@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "harness/run/tally.h"
+#include "harness/verify/image_statistics.h"
 #include "harness/verify/statistics.h"
 
 namespace pcbench {
@@ -16,26 +17,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-void check_image(const Image& image, const Image& first) {
-  if (image.values.size() != image.pixel_count() * kImageChannels) {
-    throw std::invalid_argument(fmt::format("a {}x{} image holds {} values", image.width,
-                                            image.height, image.values.size()));
-  }
-  if (image.width != first.width || image.height != first.height) {
-    throw std::invalid_argument(fmt::format("images of different sizes: {}x{} and {}x{}",
-                                            first.width, first.height, image.width, image.height));
-  }
-}
-
-// Every replicate the size of `like`, or of the first replicate.
-void check_replicates(std::span<const Image> images, const Image* like = nullptr) {
-  if (images.size() < 2) {
-    throw std::invalid_argument(
-        fmt::format("{} replicate image(s): a standard error needs at least 2", images.size()));
-  }
-  for (const Image& image : images) check_image(image, like != nullptr ? *like : images.front());
-}
 
 void check_options(double alpha, const PyramidOptions& options) {
   if (!(alpha > 0.0 && alpha < 1.0)) {

@@ -16,6 +16,16 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// (mean_a - mean_b) / sqrt(variance), without the NaN of 0/0: two values known exactly are
+// either equal (z = 0) or certainly different (±inf).
+double z_score(double mean_a, double mean_b, double variance) {
+  const double difference = mean_a - mean_b;
+  if (variance == 0.0) return difference == 0.0 ? 0.0 : std::copysign(kInf, difference);
+  return difference / std::sqrt(variance);
+}
+
+}  // namespace
+
 void check_image(const Image& image, const Image& first) {
   if (image.values.size() != image.pixel_count() * kImageChannels) {
     throw std::invalid_argument(fmt::format("a {}x{} image holds {} values", image.width,
@@ -27,24 +37,13 @@ void check_image(const Image& image, const Image& first) {
   }
 }
 
-// Every replicate the size of `like`, or of the first replicate.
-void check_replicates(std::span<const Image> images, const Image* like = nullptr) {
+void check_replicates(std::span<const Image> images, const Image* like) {
   if (images.size() < 2) {
     throw std::invalid_argument(
         fmt::format("{} replicate image(s): a standard error needs at least 2", images.size()));
   }
   for (const Image& image : images) check_image(image, like != nullptr ? *like : images.front());
 }
-
-// (mean_a - mean_b) / sqrt(variance), without the NaN of 0/0: two values known exactly are
-// either equal (z = 0) or certainly different (±inf).
-double z_score(double mean_a, double mean_b, double variance) {
-  const double difference = mean_a - mean_b;
-  if (variance == 0.0) return difference == 0.0 ? 0.0 : std::copysign(kInf, difference);
-  return difference / std::sqrt(variance);
-}
-
-}  // namespace
 
 std::vector<double> relative_error_scale(const Image& reference) {
   double mean = 0.0;

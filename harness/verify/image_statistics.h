@@ -12,6 +12,13 @@
 
 namespace pcbench {
 
+// Throws std::invalid_argument unless `image` holds width × height × 3 values and has the size
+// of `first`.
+void check_image(const Image& image, const Image& first);
+// Throws std::invalid_argument for fewer than 2 images, or one not the size of `like` (or, without
+// it, of the first).
+void check_replicates(std::span<const Image> images, const Image* like = nullptr);
+
 struct PixelStatistics {
   Image mean;
   Image standard_error;  // sample sd across replicates / sqrt(R)
