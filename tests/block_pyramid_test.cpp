@@ -503,6 +503,65 @@ TEST(BlockPyramidBudget, FalseAlarmsStayBelowAlpha) {
   EXPECT_LT(alarms, 32);
 }
 
+// A run on the same streams as `base`: each replicate is base's plus independent noise of `sd`
+// per pixel (what the estimators do differently) and `bias` in every pixel of channel 1.
+std::vector<Image> paired_with(const std::vector<Image>& base, std::uint64_t seed, double sd,
+                               double bias = 0.0) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, sd);
+  std::vector<Image> images = base;
+  for (Image& image : images) {
+    for (std::uint32_t y = 0; y < image.height; ++y) {
+      for (std::uint32_t x = 0; x < image.width; ++x) {
+        for (std::uint32_t c = 0; c < kImageChannels; ++c) {
+          image.at(x, y, c) += normal(rng) + (c == 1 ? bias : 0.0);
+        }
+      }
+    }
+  }
+  return images;
+}
+
+// The paired design: where two runs share most of their noise, the differences of their
+// replicates vary far less than either run, and a bias that Welch's test cannot see is found.
+TEST(BlockPyramidPaired, SharedNoiseCancelsInTheDifferences) {
+  const std::vector<Image> a = normal_replicates(kWidth, kHeight, kReplicates, 91, kSd);
+  const std::vector<Image> b = paired_with(a, 92, 0.1 * kSd, 0.01);
+  const PyramidResult welch = compare_blocks(a, b, kAlpha);
+  const PyramidResult paired = compare_blocks(a, b, kAlpha, {.paired = true});
+  EXPECT_FALSE(welch.paired);
+  EXPECT_TRUE(paired.paired);
+  EXPECT_GT(welch.min_p_adjusted, kAlpha);
+  EXPECT_LE(paired.min_p_adjusted, kAlpha);
+  for (std::size_t s = 0; s < paired.scales.size(); ++s) {
+    // sd(a - b) = 0.1 sd against Welch's sqrt(2) sd: the detectable bias shrinks with it (less
+    // than 14x: the paired test has R - 1 dof, Welch's about 2R - 2).
+    EXPECT_LT(paired.scales[s].worst_bright_relative_mdb,
+              0.2 * welch.scales[s].worst_bright_relative_mdb);
+    for (const BlockTest& t : paired.scales[s].tests) EXPECT_EQ(t.dof, kReplicates - 1.0);
+  }
+  // The same images as one side: every difference is 0, so every test is exact and passes.
+  const PyramidResult same = compare_blocks(a, a, kAlpha, {.paired = true});
+  EXPECT_EQ(same.min_p_adjusted, 1.0);
+  // Pairs need as many replicates on both sides.
+  EXPECT_THROW(compare_blocks(a, std::span(b).first(kReplicates - 1), kAlpha, {.paired = true}),
+               std::invalid_argument);
+}
+
+// The paired pyramid's false alarms on same-distribution pairs that share their noise stay
+// below alpha, as Welch's do on independent pairs (FalseAlarmsStayBelowAlpha).
+TEST(BlockPyramidPaired, FalseAlarmsStayBelowAlpha) {
+  constexpr double kLooseAlpha = 0.1;
+  int alarms = 0;
+  for (std::uint64_t seed = 0; seed < 200; ++seed) {
+    const std::vector<Image> a = normal_replicates(32, 32, 4, 3000 + 2 * seed, kSd);
+    const std::vector<Image> b = paired_with(a, 3001 + 2 * seed, 0.3 * kSd);
+    alarms += compare_blocks(a, b, kLooseAlpha, {.paired = true}).min_p_adjusted <= kLooseAlpha;
+  }
+  // P(Binomial(200, 0.1) >= 32) < 0.005: the test's own error budget.
+  EXPECT_LT(alarms, 32);
+}
+
 TEST(BlockPyramidBudget, WeightedHolm) {
   const std::vector<double> p = {0.01, 0.04, 0.03, 0.5};
   const std::vector<double> equal(4, 0.25);

@@ -240,6 +240,41 @@ TEST(PlanId, APilotNeverHasTheIdOfARun) {
   EXPECT_NE(pilot.id, run.id);
 }
 
+// Paired streams: the scene runs of two estimators share their streams (and so their camera
+// paths, replicate by replicate) while their ids stay apart, and differ from the unpaired ids;
+// another resolution, budget or an analytic run does not pair.
+TEST(PlanId, PairedSceneRunsShareStreamsButNotIds) {
+  std::vector<RunPlan> plans = plan_runs(
+      {grid({"pt", "plain"}, {"furnace"}, {{"resolution", {"8", "16"}}}), row("genz-gaussian")},
+      {});
+  ASSERT_EQ(plans.size(), 5u);
+  const std::vector<RunPlan> own = plans;
+  for (const RunPlan& p : own) EXPECT_EQ(p.stream_hash, p.id_hash);
+  pair_scene_streams(plans);
+  const auto find = [&](const std::string& estimator, const std::string& resolution) {
+    for (const RunPlan& p : plans) {
+      if (p.estimator->name == estimator && p.integrand->name == "furnace" &&
+          to_text(p.integrand_params.values().at("resolution")) == resolution) {
+        return p;
+      }
+    }
+    ADD_FAILURE() << estimator << " at " << resolution;
+    return RunPlan{};
+  };
+  const RunPlan pt8 = find("pt", "8"), plain8 = find("plain", "8"), pt16 = find("pt", "16");
+  EXPECT_TRUE(share_streams(pt8, plain8));
+  EXPECT_NE(pt8.id, plain8.id);
+  EXPECT_FALSE(share_streams(pt8, pt16));
+  for (std::size_t i = 0; i < plans.size(); ++i) {
+    EXPECT_EQ(plans[i].paired_streams, plans[i].render != nullptr);
+    EXPECT_EQ(plans[i].id == own[i].id, plans[i].render == nullptr) << plans[i].id;
+  }
+  EXPECT_FALSE(share_streams(pt8, own[0]));
+  // Another budget: other streams.
+  EXPECT_FALSE(share_streams(pt8, with_samples(plain8, plain8.samples * 2)));
+  EXPECT_TRUE(share_streams(with_samples(pt8, 64), with_samples(plain8, 64)));
+}
+
 TEST(PlanId, DoesNotDependOnRowOrder) {
   const GridRequest a = row("genz-gaussian", {{"sharpness", {"2"}}});
   const GridRequest b = row("genz-oscillatory", {{"center", {"0.1"}}});

@@ -201,6 +201,37 @@ TEST(StatisticsTest, WelchWithZeroSpreadTestsAgainstTheReferenceUncertaintyAlone
   EXPECT_NEAR(v.min_detectable_bias, 2.80158 * 0.3, 1e-4);
 }
 
+// The paired t on (1, 0.5), (2, 2), (3, 2), (4, 3): differences 0.5, 0, 1, 1, mean 0.625,
+// variance 0.6875 / 3; t = 2.6111648, p = 0.0796050 (scipy.stats.ttest_rel gives both).
+TEST(StatisticsPairedT, HandMadePairs) {
+  const std::vector<double> a = {1, 2, 3, 4}, b = {0.5, 2, 2, 3};
+  const TwoSampleTest t = paired_t_test(a, b);
+  EXPECT_DOUBLE_EQ(t.mean_a, 2.5);
+  EXPECT_DOUBLE_EQ(t.mean_b, 1.875);
+  EXPECT_DOUBLE_EQ(t.stderr_of_difference, std::sqrt(0.6875 / 3.0 / 4.0));
+  EXPECT_NEAR(t.statistic, 2.6111648393354674, 1e-12);
+  EXPECT_EQ(t.dof, 3.0);
+  EXPECT_NEAR(t.p_value, 0.07960498081790625, 1e-9);
+  // Welch on the same numbers ignores the pairing: a larger standard error here.
+  EXPECT_GT(welch_two_sample(a, b).stderr_of_difference, 2.0 * t.stderr_of_difference);
+}
+
+TEST(StatisticsPairedT, ConstantDifferencesAreExact) {
+  const std::vector<double> a = {1, 2, 3}, shifted = {1.5, 2.5, 3.5};
+  const TwoSampleTest same = paired_t_test(a, a);
+  EXPECT_EQ(same.p_value, 1.0);
+  EXPECT_EQ(same.statistic, 0.0);
+  EXPECT_EQ(same.dof, 2.0);
+  const TwoSampleTest apart = paired_t_test(a, shifted);
+  EXPECT_EQ(apart.p_value, 0.0);
+  EXPECT_EQ(apart.statistic, -kInf);
+}
+
+TEST(StatisticsPairedT, UnequalLengthsAreNoPairs) {
+  const std::vector<double> a = {1, 2, 3}, b = {1, 2};
+  EXPECT_THROW(paired_t_test(a, b), std::invalid_argument);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The rounding bound (harness/verify/rounding_bound.h)
 

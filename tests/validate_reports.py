@@ -370,12 +370,18 @@ def main():
             # The block pyramid's calibration on scenes: a `tile_calibration` section, no runs.
             ("l-tile-calibrate", ["calibrate", "-i", "furnace,cornell", "-p", "resolution=16",
                                   "--seeds", "20", "-n", "1", "-r", "4"], 0, False),
+            ("l-tile-calibrate-paired", ["calibrate", "-i", "cornell", "-p", "resolution=16",
+                                         "--seeds", "20", "-n", "1", "-r", "4", "--paired"],
+             0, False),
             # Scenes: image sections (with the per-strategy images), tracing counters, tile
             # comparisons (against the exact furnace, between estimators, the injected
             # self-check) and a flagged control.
             ("m-scene", ["verify", "-e", "plain,pcbpt,ctl-scene-lvc-per-vertex", "-i",
                          "furnace,cornell", "-p", "resolution=8", "-n", "4", "-r", "4",
                          "--strategy-images"], 0, False),
+            # Paired streams: runs with "streams": "paired" and paired block pyramids.
+            ("m-scene-paired", ["run", "-e", "pt,plain", "-i", "cornell", "-p", "resolution=8",
+                                "-n", "2", "-r", "4", "--paired"], 0, False),
             # Errors against the cached converged image: reference "cache" with its provenance.
             ("n-scene-cached", ["run", "-e", "plain,pcbpt", "-i", "cornell", "-p", "resolution=8",
                                 "-n", "2", "-r", "4", "--reference-cache", references], 0, False),

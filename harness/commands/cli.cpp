@@ -46,6 +46,7 @@ struct RunArguments {
   std::string out_dir;
   bool quiet = false;
   bool interleave = false;
+  bool paired = false;
   bool strategy_images = false;
   bool replicate_images = false;
   bool resume = false;
@@ -303,6 +304,7 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
   std::vector<ResolvedGrid> grids;
   BudgetDefaults budget;
   SessionOptions session = session_options(args, argv, interrupted);
+  bool paired = args.paired;
   if (!args.suite_path.empty()) {
     SuiteRequest suite = load_suite(args.suite_path);
     for (GridRequest& grid : suite.grids) {
@@ -321,6 +323,7 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
     if (suite.seed && run_app.count("--seed") == 0) session.seed = *suite.seed;
     session.compare_pairwise = suite.compare_pairwise;
     session.interleave = session.interleave || suite.interleave;
+    paired = paired || suite.paired;
     session.strategy_images = session.strategy_images || suite.strategy_images;
     session.scale_requirements = with_requirements(suite.scale_requirements, args);
   } else {
@@ -348,7 +351,8 @@ int run_command(const RunArguments& args, const CLI::App& run_app,
           "--exact");
     }
   }
-  const std::vector<RunPlan> plans = plan_runs(grids, budget);
+  std::vector<RunPlan> plans = plan_runs(grids, budget);
+  if (paired) pair_scene_streams(plans);
   if (this_rank() != 0) {
     // Another rank of an MPI job: only its share of rank 0's runs (--exact runs on rank 0).
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
@@ -436,6 +440,10 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_flag("--interleave", args.interleave,
                 "runs on one integrand take their replicates in turn; prints their efficiency "
                 "ratios with intervals");
+  app->add_flag("--paired", args.paired,
+                "scene runs share their random streams between estimators (the same camera paths "
+                "and light pools per replicate) and their block pyramids test the replicate "
+                "differences (paired t): more power where the estimators' images correlate");
   app->add_flag("--strategy-images", args.strategy_images,
                 "scene runs also write images/<id>_strategies.exr: the mean image of each (s, t) "
                 "connection strategy, one layer each, and their shares of the image");
@@ -570,6 +578,9 @@ void add_calibrate_options(CLI::App* app, CalibrateArguments& calibration, RunAr
   add_seed_and_threads_options(app, args);
   app->add_option("--out,-o", args.out_dir, "output folder (default results/runs/<date-time>/)");
   app->add_flag("--quiet,-q", args.quiet, "no table");
+  app->add_flag("--paired", args.paired,
+                "scenes: runs share their random streams and pairs are tested on replicate "
+                "differences (the paired design of run --paired)");
 }
 
 // The calibration's parameters, parsed as `run` parses them but one value per key: a
@@ -603,6 +614,11 @@ int calibrate_command_line(const CalibrateArguments& calibration, const RunArgum
   if (scenes == 0 && calibration.integrands.size() > 1) {
     throw InputError("command line: calibrate takes one analytic integrand");
   }
+  if (scenes == 0 && args.paired) {
+    throw InputError(
+        "command line: --paired pairs scene runs; calibrate on an analytic integrand takes no "
+        "--paired (give scenes with --integrand)");
+  }
   const bool given_seed = app.count("--seed") > 0;
   prepare_out_dir(args.out_dir, app.count("--out") > 0);
   const SessionOptions session = session_options(args, argv, interrupted);
@@ -619,6 +635,7 @@ int calibrate_command_line(const CalibrateArguments& calibration, const RunArgum
   if (scenes > 0) {
     TileCalibrationOptions options;
     options.scenes = calibration.integrands;
+    options.paired = args.paired;
     take_common(options);
     options.params = calibrate_params(args, options.estimators, options.scenes);
     return run_tile_calibration(options, session, out, err);

@@ -52,6 +52,8 @@ int run_reference_command(const std::vector<RunPlan>& plans, const ReferenceOpti
     // even a run of the same estimator with the same budget and seed.
     RunPlan own = plan;
     own.id_hash = fnv1a(plan.id_hash, "reference-image");
+    own.stream_hash = own.id_hash;
+    own.paired_streams = false;
     const RunResult result = options.farm != nullptr ? options.farm->run(own, options.runner)
                                                      : execute_scene_run(own, options.runner);
     if (result.status != RunStatus::kOk) {

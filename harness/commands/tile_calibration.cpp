@@ -107,6 +107,7 @@ std::vector<ScenePlans> plan_scenes(const TileCalibrationOptions& options,
                    .where = "tile calibration"};
   for (const auto& [key, value] : options.params) grid.params[key] = {value};
   plans = plan_runs({grid}, {.samples = options.samples, .replicates = options.replicates});
+  if (options.paired) pair_scene_streams(plans);
   std::vector<ScenePlans> scenes(options.scenes.size());
   for (std::size_t s = 0; s < options.scenes.size(); ++s) {
     for (const std::string& estimator : options.estimators) {
@@ -200,8 +201,11 @@ std::vector<CurveSpec> curve_specs(const TileCalibrationOptions& options,
 PyramidResult compare(const ComparisonSpec& spec, const std::vector<Image>& a,
                       const SeedImages& images, const std::vector<ScenePlans>& scenes,
                       double alpha) {
-  if (spec.b < 0) return test_blocks_against_exact(a, *scenes[spec.scene].exact, alpha);
-  return compare_blocks(a, images[spec.scene][static_cast<std::size_t>(spec.b)], alpha);
+  const ScenePlans& scene = scenes[spec.scene];
+  if (spec.b < 0) return test_blocks_against_exact(a, *scene.exact, alpha);
+  const auto b = static_cast<std::size_t>(spec.b);
+  return compare_blocks(a, images[spec.scene][b], alpha,
+                        {.paired = share_streams(*scene.runs[spec.a], *scene.runs[b])});
 }
 
 // One seed: every run, every comparison, every curve's injections.
@@ -436,12 +440,13 @@ std::string scale_name(std::uint32_t block, bool whole) {
 void print_size_table(const TileCalibrationResult& result, std::ostream& out) {
   const TileCalibrationOptions& o = result.options;
   out << fmt::format(
-      "Block pyramid calibration: seeds {}..{}, {} replicate images x {} spp; each comparison "
+      "Block pyramid calibration: seeds {}..{}, {} replicate images x {} spp{}; each comparison "
       "decided alone at alpha = {} over its pyramid (weighted Holm: each of L scales alpha / L, "
       "each of its n_s block tests alpha / (L n_s)); a scale's false alarm is the comparison "
       "rejecting through that scale; a row passes when its one-sided binomial p against alpha, "
       "and at every scale that p and its centre block's KS p, are >= {}\n",
-      o.first_seed, o.first_seed + o.seeds - 1, o.replicates, o.samples, o.test_alpha,
+      o.first_seed, o.first_seed + o.seeds - 1, o.replicates, o.samples,
+      o.paired ? ", paired streams (pairs tested on replicate differences)" : "", o.test_alpha,
       o.pass_threshold);
   out << fmt::format("{:<14} {:<44} {:>5} {:>12} {:>22} {:>8} {:>9} {:>9} {:>9}  {}\n", "scene",
                      "comparison / scale (its share alpha / L)", "tests", "false alarms",
@@ -507,6 +512,7 @@ nlohmann::ordered_json tile_calibration_json(const TileCalibrationResult& result
   j["seeds"] = o.seeds;
   j["first_seed"] = o.first_seed;
   j["test_alpha"] = o.test_alpha;
+  j["paired"] = o.paired;
   j["tile"] = PyramidOptions{}.tile;
   j["power"] = PyramidOptions{}.power;
   j["bias_multipliers"] = o.bias_multipliers;

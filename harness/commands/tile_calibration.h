@@ -13,7 +13,8 @@
 //  1. Size. For every seed each estimator renders R replicate images of each scene. A scene with
 //     an exact image (the furnace) is tested against it, one row per estimator; every other scene
 //     compares every pair of estimators (independent runs: their plans have different ids, so
-//     different random streams, as in a session). A row counts the seeds whose comparison
+//     different random streams, as in a session; with `paired`, runs that share their streams,
+//     tested on replicate differences, as in a session with --paired). A row counts the seeds whose comparison
 //     rejects (family-wise false alarms) and, per scale, the seeds whose comparison rejects
 //     through that scale (its smallest adjusted p <= α). Holm is conservative and the tests are
 //     correlated, so the rate is at most α overall and about α / L per scale (its share, also
@@ -78,6 +79,9 @@ struct TileCalibrationOptions {
   double pass_threshold = 1e-3;
   // The k of the power curves (bias = k × the injected block's MDB); empty: no power curve.
   std::vector<double> bias_multipliers = {0.5, 1.0, 2.0};
+  // Scene runs with paired streams (RunPlan::paired_streams), their pairs tested by the paired
+  // pyramid: the calibration of the paired design (--paired).
+  bool paired = false;
   const std::atomic<bool>* interrupted = nullptr;  // Ctrl-C: throws CalibrationInterrupted
 };
 

@@ -186,9 +186,27 @@ void assign_id(RunPlan& plan) {
   // No parameter name starts with '@': the budget cannot collide with a parameter.
   if (plan.seconds) effective["@seconds"] = fmt::format("{}", *plan.seconds);
   if (plan.pilot) effective["@pilot"] = "yes";
+  if (plan.paired_streams) effective["@paired"] = "yes";
   plan.id_hash = run_id_hash(plan.estimator->name, plan.integrand->name, effective, plan.samples,
                              plan.replicates);
   plan.id = fmt::format("{:016x}", plan.id_hash);
+  plan.stream_hash = plan.id_hash;
+  if (plan.paired_streams) {
+    // Everything of the id but the estimator and its params.
+    std::map<std::string, std::string> scene;
+    for (const auto& [key, value] : plan.integrand_params.values()) scene[key] = to_text(value);
+    if (plan.pilot) scene["@pilot"] = "yes";
+    plan.stream_hash =
+        run_id_hash("@paired", plan.integrand->name, scene, plan.samples, plan.replicates);
+  }
+}
+
+void pair_scene_streams(std::vector<RunPlan>& plans) {
+  for (RunPlan& plan : plans) {
+    if (!plan.render) continue;
+    plan.paired_streams = true;
+    assign_id(plan);
+  }
 }
 
 RunPlan with_samples(const RunPlan& plan, std::uint64_t samples) {
@@ -202,7 +220,9 @@ RunPlan with_samples(const RunPlan& plan, std::uint64_t samples) {
 RunPlan with_chosen_samples(const RunPlan& plan, std::uint64_t samples) {
   RunPlan chosen = plan;
   chosen.samples = samples;
-  chosen.id_hash = with_samples(plan, samples).id_hash;
+  const RunPlan streams = with_samples(plan, samples);
+  chosen.id_hash = streams.id_hash;
+  chosen.stream_hash = streams.stream_hash;
   return chosen;
 }
 

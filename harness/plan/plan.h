@@ -78,10 +78,19 @@ struct RunPlan {
   // The run as requested: 16 hex digits of a hash of estimator, integrand, effective params,
   // budget (samples, or seconds) and replicates.
   std::string id;
-  // Keys the random streams: the hash of `id`, except for an equal-time run once its sample
-  // count is chosen, which uses the id of the same run with `--samples N` so that the replay
-  // gives the same numbers.
+  // The hash of `id`, except for an equal-time run once its sample count is chosen, which takes
+  // the id of the same run with `--samples N`, so that the replay gives the same numbers.
   std::uint64_t id_hash = 0;
+  // Keys the random streams (run_key): id_hash, except for a run with paired streams.
+  std::uint64_t stream_hash = 0;
+  // Paired streams (a suite's "paired": true, --paired; scene runs only): the streams are keyed
+  // by the scene, its params, the samples and the replicates instead of the run, so that the
+  // runs of two estimators on one scene trace the same camera paths and light pools replicate by
+  // replicate, and their images are compared on replicate differences (paired t,
+  // harness/verify/block_pyramid.h). Replicate r of one run is still independent of replicate
+  // r' != r of every run, which is what the paired test needs. The id says "paired" too, so a
+  // paired run never takes an unpaired run's journal entry.
+  bool paired_streams = false;
   std::string where;
   const EstimatorEntry* estimator = nullptr;
   const IntegrandEntry* integrand = nullptr;
@@ -132,6 +141,17 @@ RunPlan with_samples(const RunPlan& plan, std::uint64_t samples);
 // An equal-time run with its sample count chosen: keeps the requested id, and takes the random
 // streams of `--samples samples` (see RunPlan::id_hash).
 RunPlan with_chosen_samples(const RunPlan& plan, std::uint64_t samples);
+
+// Pairs the streams of every scene run in `plans` (RunPlan::paired_streams), with new ids;
+// analytic runs keep theirs (they are tested against exact values, and their pairwise
+// comparisons are Welch's, which needs independent runs).
+void pair_scene_streams(std::vector<RunPlan>& plans);
+
+// Whether runs a and b trace the same random streams replicate by replicate (then they have the
+// same samples and replicates too): their comparison must be paired, not Welch's.
+inline bool share_streams(const RunPlan& a, const RunPlan& b) {
+  return a.paired_streams && b.paired_streams && a.stream_hash == b.stream_hash;
+}
 
 // The id of a run: a hash of estimator, integrand, effective params, samples and replicates.
 std::uint64_t run_id_hash(const std::string& estimator, const std::string& integrand,

@@ -14,7 +14,7 @@ using Json = JsonInput::Json;
 
 const std::vector<std::string> kTopKeys = {
     "name",    "description", "defaults",        "runs",       "grid",
-    "compare", "interleave",  "strategy_images", "require_mdb"};
+    "compare", "interleave",  "strategy_images", "require_mdb", "paired"};
 const std::vector<std::string> kDefaultsKeys = {"samples", "seconds", "replicates", "seed"};
 const std::vector<std::string> kRowKeys = {"estimator", "integrand",  "params", "samples",
                                            "seconds",   "replicates", "expect"};
@@ -37,6 +37,7 @@ class SuiteParser {
     if (root.contains("interleave")) {
       suite.interleave = in_.boolean_at(root["interleave"], "/interleave");
     }
+    if (root.contains("paired")) suite.paired = in_.boolean_at(root["paired"], "/paired");
     if (root.contains("strategy_images")) {
       suite.strategy_images = in_.boolean_at(root["strategy_images"], "/strategy_images");
     }

@@ -28,6 +28,9 @@ struct SuiteRequest {
   bool compare_pairwise = false;
   // "interleave": true: runs on one integrand take their replicates in turn (--interleave).
   bool interleave = false;
+  // "paired": true: scene runs share their random streams between estimators and their block
+  // pyramids are paired tests (--paired; RunPlan::paired_streams in harness/plan/plan.h).
+  bool paired = false;
   // "strategy_images": true: scene runs also write their per-strategy images (--strategy-images).
   bool strategy_images = false;
   // "require_mdb": {SCALE: FRACTION}: what a scene comparison's block pyramid must detect at each

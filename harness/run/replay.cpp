@@ -46,7 +46,7 @@ BatchEvaluation evaluate(const RunPlan& plan, std::uint64_t seed, std::uint32_t 
   BatchEvaluation out;
   Counters counters;
   EstimatorScratch scratch;
-  BatchContext ctx{.key = run_key(seed, plan.id_hash),
+  BatchContext ctx{.key = run_key(seed, plan.stream_hash),
                    .replicate = replicate,
                    .first_sample = static_cast<std::uint32_t>(first),
                    .sample_count = count,

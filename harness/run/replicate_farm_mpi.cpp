@@ -1,8 +1,9 @@
 // The replicate farm over MPI (harness/replicate_farm.h): built when PCBENCH_MPI is on.
 //
 // Messages, all on MPI_COMM_WORLD:
-//   rank 0 → all (broadcast): a batch of announced runs, [n, then 6 numbers per run: the index
-//     of the planned run it is made from, samples, id_hash, replicates, seed, strategy images];
+//   rank 0 → all (broadcast): a batch of announced runs, [n, then 7 numbers per run: the index
+//     of the planned run it is made from, samples, id_hash, replicates, seed, strategy images,
+//     stream_hash];
 //     n = 0 ends the job.
 //   rank k → rank 0 (tag kReplicateTag): one finished replicate, as saved_run_text, in unit order.
 // Waiting polls with a short sleep instead of blocking: Open MPI spins in a blocking call, which
@@ -31,7 +32,7 @@ namespace pcbench {
 namespace {
 
 constexpr int kReplicateTag = 17;
-constexpr std::size_t kFields = 6;
+constexpr std::size_t kFields = 7;
 using RunFields = std::array<std::uint64_t, kFields>;
 
 bool g_started = false;
@@ -104,6 +105,7 @@ RunPlan rebuilt(const std::vector<RunPlan>& plans, const RunFields& fields) {
   plan.samples = fields[1];
   plan.id_hash = fields[2];
   plan.replicates = static_cast<std::uint32_t>(fields[3]);
+  plan.stream_hash = fields[6];
   return plan;
 }
 
@@ -172,7 +174,7 @@ class MpiFarm final : public ReplicateFarm {
   RunFields fields_of(const RunPlan& plan, const RunnerOptions& options) const {
     return {
         planned_index(plans_, plan),      plan.samples, plan.id_hash, plan.replicates, options.seed,
-        options.strategy_images ? 1u : 0u};
+        options.strategy_images ? 1u : 0u, plan.stream_hash};
   }
 
   std::vector<RunPlan> plans_;

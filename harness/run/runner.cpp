@@ -159,7 +159,7 @@ RunResult execute_run(const RunPlan& plan, const RunnerOptions& options) {
   const std::uint64_t task_count = chunks_per_replicate * replicates;
   std::vector<ChunkResult> chunks;
 
-  const std::uint64_t key = run_key(options.seed, plan.id_hash);
+  const std::uint64_t key = run_key(options.seed, plan.stream_hash);
   const Estimator& estimator = *plan.made_estimator;
   const Integrand& integrand = *plan.made_integrand;
   tbb::enumerable_thread_specific<ThreadState> threads;

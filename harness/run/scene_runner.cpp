@@ -44,7 +44,7 @@ RunResult execute_scene_run(const RunPlan& plan, const RunnerOptions& options) {
   result.independent_samples = false;  // the pixels of an iteration share one light pool
   const auto start = std::chrono::steady_clock::now();
   const auto& integrand = dynamic_cast<const SceneIntegrand&>(*plan.made_integrand);
-  const std::uint64_t key = run_key(options.seed, plan.id_hash);
+  const std::uint64_t key = run_key(options.seed, plan.stream_hash);
   scene::TraceCounters counters;
   try {
     const auto interrupted = [&] {

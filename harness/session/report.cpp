@@ -224,6 +224,7 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
            {"pool", plan.render                         ? "shared"
                     : plan.estimator_params.has("pool") ? plan.estimator_params.text("pool")
                                                         : "fresh"},
+           {"streams", plan.paired_streams ? "paired" : "own"},
            {"wall_seconds", result.wall_seconds},
            {"replicates", replicates},
            {"aggregates", aggregates},

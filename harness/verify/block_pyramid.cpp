@@ -241,6 +241,11 @@ PyramidResult compare_blocks(std::span<const Image> a, std::span<const Image> b,
   check_replicates(a);
   check_replicates(b, &a.front());
   if (a.front().pixel_count() == 0) throw std::invalid_argument("empty image");
+  if (options.paired && a.size() != b.size()) {
+    throw std::invalid_argument(fmt::format(
+        "a paired comparison needs replicate pairs: {} replicates against {}", a.size(), b.size()));
+  }
+  const auto test = options.paired ? paired_t_test : welch_two_sample;
   const std::vector<Blocking> scales = pyramid(a.front(), options);
   const std::vector<std::vector<double>> means_a = block_means(a, scales);
   const std::vector<std::vector<double>> means_b = block_means(b, scales);
@@ -248,11 +253,13 @@ PyramidResult compare_blocks(std::span<const Image> a, std::span<const Image> b,
   for (std::size_t s = 0; s < scales.size(); ++s) {
     raw[s].resize(scales[s].count() * kImageChannels);
     for (std::size_t k = 0; k < raw[s].size(); ++k) {
-      raw[s][k] = welch_two_sample(std::span(means_a[s]).subspan(k * a.size(), a.size()),
-                                   std::span(means_b[s]).subspan(k * b.size(), b.size()));
+      raw[s][k] = test(std::span(means_a[s]).subspan(k * a.size(), a.size()),
+                       std::span(means_b[s]).subspan(k * b.size(), b.size()));
     }
   }
-  return decide_pyramid(raw, scales, alpha, options);
+  PyramidResult out = decide_pyramid(raw, scales, alpha, options);
+  out.paired = options.paired;
+  return out;
 }
 
 PyramidResult test_blocks_against_exact(std::span<const Image> a, const Image& exact, double alpha,

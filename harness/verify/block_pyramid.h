@@ -1,6 +1,6 @@
 // The block tests that verify a scene's images: a pyramid of block means, from tiles of 8×8
-// pixels up to the whole image, each tested on the replicates (Welch between two runs, Student's
-// one-sample t against an exact image).
+// pixels up to the whole image, each tested on the replicates (Welch between two runs, or the
+// paired t where they share random streams; Student's one-sample t against an exact image).
 //
 // Why blocks, and why every scale: one test per pixel would need R large enough for every
 // pixel's mean to be normal and a correction over millions of tests, which leaves no power. The
@@ -42,6 +42,13 @@ struct PyramidOptions {
   // How many scales to test, finest first; 0: every scale up to the whole image. 1 tests the
   // tiles alone.
   std::uint32_t max_scales = 0;
+  // compare_blocks only: replicate r of a and of b come from the same random streams (runs with
+  // paired streams, share_streams in harness/plan/plan.h), so the two sides are correlated and
+  // Welch's test, which needs them independent, does not apply. Each block is then tested on
+  // the R replicate differences of its means (paired t, dof R - 1); the pairs are independent of
+  // each other. Where the runs correlate positively the differences vary less than the sides
+  // do, and the detectable bias shrinks with them. Needs as many replicates on both sides.
+  bool paired = false;
 };
 
 struct BlockTest {
@@ -76,14 +83,16 @@ struct PyramidResult {
   std::uint32_t tests = 0;              // over every scale
   double min_p_adjusted = 1;            // the comparison's p-value
   bool rejected = false;                // min_p_adjusted <= alpha (the comparison decided alone)
+  bool paired = false;                  // tested on replicate differences (PyramidOptions)
 };
 
 // Per block and channel, each replicate's block mean is one observation; the R_a observations of
-// a against the R_b of b give Welch's two-sample test. A block with zero variance on both sides
+// a against the R_b of b give Welch's two-sample test (the paired test with options.paired). A block with zero variance on both sides
 // is tested exactly (p = 1 for equal means, 0 otherwise). A block holding a non-finite value gets
 // p = 0: a NaN or inf pixel is a defect that must not pass. Throws std::invalid_argument for
 // fewer than 2 replicates on a side, images of different sizes, an empty image, alpha outside
-// (0, 1), tile 0, power outside (0, 1), or family_size 0.
+// (0, 1), tile 0, power outside (0, 1), family_size 0, or paired sides of different replicate
+// counts.
 PyramidResult compare_blocks(std::span<const Image> a, std::span<const Image> b, double alpha,
                              const PyramidOptions& options = {});
 

@@ -51,9 +51,10 @@ Verdict pyramid_verdict(const PyramidResult& t, const ScaleRequirements& require
     powers.push_back(std::move(power));
   }
   v.reason = fmt::format(
-      "{} block×channel tests at {} scales, smallest adjusted p {:.3g} at {} px; detectable bias "
+      "{} block×channel tests{} at {} scales, smallest adjusted p {:.3g} at {} px; detectable bias "
       "on bright blocks at the family's threshold: {}",
-      t.tests, t.scales.size(), t.min_p_adjusted, t.scales[smallest].block,
+      t.tests, t.paired ? " (paired: on the differences of replicates with shared streams)" : "",
+      t.scales.size(), t.min_p_adjusted, t.scales[smallest].block,
       fmt::join(powers, ", "));
   return v;
 }
@@ -70,6 +71,7 @@ Comparison pyramid_comparison(const PyramidResult& t, const ScaleRequirements& r
   c.p_value = t.min_p_adjusted;
   c.expect = std::move(expect);
   c.replicates_a = replicates_a;
+  c.paired = t.paired;
   for (std::size_t s = 0; s < t.scales.size(); ++s) {
     const ScaleTests& scale = t.scales[s];
     c.scales.push_back({.block = scale.block,

@@ -86,7 +86,7 @@ ExactCheck exact_check(const RunPlan& plan, std::uint64_t seed) {
 
   const std::unique_ptr<PathWorkspace> paths = plan.made_integrand->make_workspace();
   EstimatorScratch scratch;
-  const BatchContext ctx{.key = run_key(seed, plan.id_hash), .sample_count = kExactCases};
+  const BatchContext ctx{.key = run_key(seed, plan.stream_hash), .sample_count = kExactCases};
   const PreparedPools pools = small.prepare(ctx, *paths, scratch, true);
   out.cases = pools.samples;
   for (std::uint32_t i = 0; i < pools.samples; ++i) {

@@ -202,6 +202,7 @@ Json scales_json(const Comparison& c) {
               {"samples_factor_for_required_mdb", finite_or_null(factor)},
               {"requirements_met", met},
               {"coarsest_differing_block", coarsest ? Json(*coarsest) : Json(nullptr)},
+              {"paired", c.paired},
               {"scales", scales}};
 }
 

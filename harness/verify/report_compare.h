@@ -58,6 +58,8 @@ struct Comparison {
     std::optional<double> required_mdb = {};
   };
   std::vector<Scale> scales = {};
+  // Scene block tests on the replicate differences of two runs with shared random streams.
+  bool paired = false;
   struct BlockP {
     std::uint32_t scale = 0, x = 0, y = 0, channel = 0;
     double p_adjusted = 1.0;

@@ -137,8 +137,10 @@ std::vector<std::pair<Comparison, Verdict>> scene_block_comparisons(
       continue;
     }
     const RunRecord& b = *p.b;
+    PyramidOptions pair_options = options;
+    pair_options.paired = share_streams(*a.plan, *b.plan);
     const auto test = [&](const std::vector<Image>& images) {
-      return compare_blocks(images, b.result.images, alpha, options);
+      return compare_blocks(images, b.result.images, alpha, pair_options);
     };
     const PyramidResult t = test(a.result.images);
     const bool biased = a.plan->estimator->biased || b.plan->estimator->biased;

@@ -1,5 +1,6 @@
 // Verification of scene runs: block pyramids (from 8×8 tiles to the whole image) between every
-// pair of independent estimators on the same scene (Welch on the replicates' block means), and
+// pair of estimators on the same scene (Welch on the replicates' block means, or the paired t on
+// their differences where the runs share random streams: harness/plan/plan.h, paired_streams), and
 // against the exact image where the scene has one (a furnace), checks that each scale flags a
 // bias of twice its reported detectable size, and the image section of each run (EXR files,
 // RMSE and relative MSE, equal-time relative MSE).

@@ -93,6 +93,26 @@ TwoSampleTest welch_two_sample(std::span<const double> a, std::span<const double
   return welch_test(sa.mean, sa.variance / na, na - 1.0, sb.mean, sb.variance / nb, nb - 1.0);
 }
 
+TwoSampleTest paired_t_test(std::span<const double> a, std::span<const double> b) {
+  if (a.size() != b.size()) {
+    throw std::invalid_argument(
+        fmt::format("a paired test needs pairs: {} values against {}", a.size(), b.size()));
+  }
+  std::vector<double> differences(a.size());
+  for (std::size_t r = 0; r < a.size(); ++r) differences[r] = a[r] - b[r];
+  const Spread sa = spread(a), sb = spread(b), sd = spread(differences);
+  const double n = static_cast<double>(a.size());
+  TwoSampleTest out = welch_test(sd.mean, sd.variance / n, n - 1.0, 0.0, 0.0,
+                                 std::numeric_limits<double>::infinity());
+  // A one-sample test: its dof is n - 1 also where the differences do not vary.
+  out.dof = n - 1.0;
+  out.mean_a = sa.mean;
+  out.mean_b = sb.mean;
+  out.stderr_a = std::sqrt(sa.variance / n);
+  out.stderr_b = std::sqrt(sb.variance / n);
+  return out;
+}
+
 std::vector<double> holm_adjusted(std::span<const double> p_values) {
   const std::size_t m = p_values.size();
   std::vector<std::size_t> order(m);

@@ -163,6 +163,15 @@ TwoSampleTest welch_test(double mean_a, double variance_of_mean_a, double dof_a,
 // 0 otherwise, and dof is (n_a - 1) + (n_b - 1).
 TwoSampleTest welch_two_sample(std::span<const double> a, std::span<const double> b);
 
+// The paired t-test on replicate pairs (a[r], b[r]) whose pairs are independent of each other
+// but whose two members may be correlated (runs on shared random streams): Student's one-sample
+// test of the differences a[r] - b[r] against 0, dof n - 1. stderr_of_difference is the
+// differences' standard error, which is below Welch's where the members correlate positively;
+// stderr_a and stderr_b are each side's own. Where the differences do not vary the test is
+// exact (p = 1 for equal means, 0 otherwise). Throws std::invalid_argument for spans of
+// different lengths; NaN figures for fewer than 2 pairs.
+TwoSampleTest paired_t_test(std::span<const double> a, std::span<const double> b);
+
 // The test against a standard error of at least `bound`, the sum of both sides' rounding bounds
 // (harness/verify/rounding_bound.h): where stderr_of_difference is below it, the statistic and
 // p-value are those against the bound (dof unchanged).
