@@ -78,6 +78,8 @@ TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
   std::ofstream("tiny_seconds.json")
       << R"({"runs": [{"estimator": "plain", "integrand": "genz-gaussian", "seconds": 1e-4}]})";
 
+  std::ofstream("paired_text.json")
+      << R"({"paired": "yes", "runs": [{"estimator": "pt", "integrand": "furnace"}]})";
   std::ofstream("truncated.json") << R"({"runs": [{"estimator": "plain", "integ)";
   // JSON has no NaN: a coordinate beyond the double range is the nearest a file gets to one.
   const char* scene_head = R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]},
@@ -124,6 +126,8 @@ TEST_F(CliInFolder, BadInputExitsTwoAndWritesNothing) {
       {{"run", "-e", "plain", "-i", "no_emitter.scene.json"}, "emitter"},
       {{"run", "-e", "plain", "-i", "cornel"}, "valid integrands"},
       {{"run", "contradiction.json"}, "/runs/1: the same run as"},
+      {{"run", "paired_text.json"}, "/paired"},
+      {{"calibrate", "-e", "plain", "--paired"}, "--paired pairs scene runs"},
       {{"run", "-e", "plain", "-i", "genz-gaussian", "--out", ""}, "--out is empty"},
       {{"run", "-e", "plain", "-i", "genz-gaussian", "--seed", "-1"}, "--seed"},
       {{"run", "-e", "plain", "-i", "genz-gaussian", "-n", "4294967295", "-r", "16777215"},

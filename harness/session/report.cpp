@@ -5,30 +5,13 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "base/json_number.h"
 #include "harness/run/replay.h"
 
 namespace pcbench {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-// Writes numbers of one run, recording the path of every non-finite one.
-class NumberWriter {
- public:
-  Json number(double value, const std::string& path) {
-    if (std::isfinite(value)) return value;
-    nonfinite_.push_back(path);
-    return nullptr;
-  }
-  // A figure that is undefined by design (no reference, say): null, but not a non-finite result.
-  static Json optional_number(double value) {
-    return std::isfinite(value) ? Json(value) : Json(nullptr);
-  }
-  const std::vector<std::string>& nonfinite() const { return nonfinite_; }
-
- private:
-  std::vector<std::string> nonfinite_;
-};
 
 Json param_value(const ParamValue& value) {
   if (const auto* i = std::get_if<std::int64_t>(&value)) return *i;

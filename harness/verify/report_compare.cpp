@@ -9,6 +9,7 @@
 #include <span>
 
 #include "base/errors.h"
+#include "base/json_number.h"
 #include "harness/verify/block_pyramid.h"
 
 namespace pcbench {
@@ -17,9 +18,6 @@ namespace {
 using Json = nlohmann::ordered_json;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-Json finite_or_null(double value) {
-  return std::isfinite(value) ? Json(value) : Json(nullptr);
-}
 
 // Why a pair of runs with the same id is not compared ("" when it is).
 std::string why_not_compared(const ReportRun& a, const ReportRun& b, std::string_view name_a,
