@@ -14,7 +14,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-
 Json row_json(const CalibrationRow& row, bool with_run) {
   Json j = Json::object();
   j["estimator"] = row.estimator;
@@ -74,13 +73,14 @@ nlohmann::ordered_json calibration_json(const CalibrationResult& result) {
                             {"predicted_power", finite_or_null(p.predicted_power)},
                             {"predicted_power_normal", finite_or_null(p.predicted_power_normal)}});
     }
-    j["power"] = Json{{"estimator", o.power_estimator},
-                      {"run_id", result.power_run_id},
-                      {"seeds", o.power_seeds},
-                      {"stderr", finite_or_null(result.power_stderr)},
-                      {"rel_stderr", finite_or_null(result.power_stderr / std::fabs(result.reference))},
-                      {"dof", o.replicates - 1},
-                      {"points", std::move(points)}};
+    j["power"] =
+        Json{{"estimator", o.power_estimator},
+             {"run_id", result.power_run_id},
+             {"seeds", o.power_seeds},
+             {"stderr", finite_or_null(result.power_stderr)},
+             {"rel_stderr", finite_or_null(result.power_stderr / std::fabs(result.reference))},
+             {"dof", o.replicates - 1},
+             {"points", std::move(points)}};
   }
   j["wall_seconds"] = finite_or_null(result.wall_seconds);
   return j;

@@ -15,8 +15,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-
-
 Json numbers(const std::vector<double>& values) {
   Json out = Json::array();
   for (double v : values) out.push_back(finite_or_null(v));

@@ -18,7 +18,6 @@ namespace {
 using Json = nlohmann::ordered_json;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-
 // Why a pair of runs with the same id is not compared ("" when it is).
 std::string why_not_compared(const ReportRun& a, const ReportRun& b, std::string_view name_a,
                              std::string_view name_b) {

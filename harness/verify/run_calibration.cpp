@@ -219,7 +219,8 @@ PowerPoint power_point(double delta, const std::vector<SeedOutcome>& outcomes,
   for (const SeedOutcome& outcome : outcomes) {
     std::vector<ReplicateResult> shifted = outcome.replicates;
     for (ReplicateResult& rep : shifted) rep.estimate += point.bias;
-    const Verdict v = test_against_reference(shifted, reference, "biased", outcome.sample_roundings);
+    const Verdict v =
+        test_against_reference(shifted, reference, "biased", outcome.sample_roundings);
     if (v.p_value <= options.test_alpha) ++point.detections;
   }
   point.detection_rate = static_cast<double>(point.detections) / point.seeds;

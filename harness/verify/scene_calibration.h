@@ -15,10 +15,10 @@
 //     an exact image (the furnace) is tested against it, one row per estimator; every other scene
 //     compares every pair of estimators (independent runs: their plans have different ids, so
 //     different random streams, as in a session; with `paired`, runs that share their streams,
-//     tested on replicate differences, as in a session with --paired). A row counts the seeds whose comparison
-//     rejects (family-wise false alarms) and, per scale, the seeds whose comparison rejects
-//     through that scale (its smallest adjusted p <= α). Holm is conservative and the tests are
-//     correlated, so the rate is at most α overall and about α / L per scale (its share, also
+//     tested on replicate differences, as in a session with --paired). A row counts the seeds whose
+//     comparison rejects (family-wise false alarms) and, per scale, the seeds whose comparison
+//     rejects through that scale (its smallest adjusted p <= α). Holm is conservative and the tests
+//     are correlated, so the rate is at most α overall and about α / L per scale (its share, also
 //     reported): the failure is "more alarms than α allows", the one-sided binomial p-value
 //     P(X >= alarms), X ~ Binomial(seeds, α), overall and per scale. The raw p-value of the
 //     block holding the image centre (green) at each scale, which should be U(0, 1) across
