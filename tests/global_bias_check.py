@@ -30,6 +30,7 @@ import subprocess
 import sys
 import tempfile
 
+from check_log import check, summary
 from image_replicates import replicate_channel_means, student_two_sided_p
 
 CONTROL = "ctl-scene-nee-count"
@@ -37,18 +38,6 @@ PARTNER = "plain"
 SEVERITY = 0.015            # the control's default
 NEXT_EVENT_SHARE = 0.987    # of cornell's image (pcbench run -e pt --strategy-images)
 ALPHA = 0.01
-
-passed = 0
-failed = 0
-
-
-def check(ok, what):
-    global passed, failed
-    if ok:
-        passed += 1
-    else:
-        failed += 1
-    print(("ok   " if ok else "FAIL ") + what)
 
 
 def whole_image_welch(folder, report, a, b):
@@ -135,8 +124,7 @@ def main():
                   f"verify exits {status}: the control missed)")
             check(p > ALPHA, f"severity 0: the whole image consistent: difference "
                   f"{relative:+.3%} ± {stderr:.3%}, Welch p = {p:.3g} > {ALPHA}")
-    print(f"{passed} passed, {failed} failed")
-    return 1 if failed else 0
+    return summary()
 
 
 if __name__ == "__main__":

@@ -27,23 +27,12 @@ import subprocess
 import sys
 import tempfile
 
+from check_log import check, summary
 from image_replicates import replicate_channel_means, student_two_sided_p
 
 BASE = "pt"
 CONTROL = "ctl-scene-nee-count"
 SEVERITY = 0.002
-
-passed = 0
-failed = 0
-
-
-def check(ok, what):
-    global passed, failed
-    if ok:
-        passed += 1
-    else:
-        failed += 1
-    print(("ok   " if ok else "FAIL ") + what)
 
 
 def run(pcbench, folder, paired):
@@ -118,8 +107,7 @@ def main():
               f"{image['relative_mdb']:.3%} > |bias| {abs(relative):.3%}")
         check(not paired_ids & {r["id"] for r in report["runs"]},
               "the paired runs' ids differ from the unpaired ones")
-    print(f"{passed} passed, {failed} failed")
-    return 1 if failed else 0
+    return summary()
 
 
 if __name__ == "__main__":
