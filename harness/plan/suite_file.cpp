@@ -13,7 +13,7 @@ namespace {
 using Json = JsonInput::Json;
 
 const std::vector<std::string> kTopKeys = {
-    "name",    "description", "defaults",        "runs",       "grid",
+    "name",    "description", "defaults",        "runs",        "grid",
     "compare", "interleave",  "strategy_images", "require_mdb", "paired"};
 const std::vector<std::string> kDefaultsKeys = {"samples", "seconds", "replicates", "seed"};
 const std::vector<std::string> kRowKeys = {"estimator", "integrand",  "params", "samples",

@@ -172,9 +172,13 @@ class MpiFarm final : public ReplicateFarm {
   };
 
   RunFields fields_of(const RunPlan& plan, const RunnerOptions& options) const {
-    return {
-        planned_index(plans_, plan),      plan.samples, plan.id_hash, plan.replicates, options.seed,
-        options.strategy_images ? 1u : 0u, plan.stream_hash};
+    return {planned_index(plans_, plan),
+            plan.samples,
+            plan.id_hash,
+            plan.replicates,
+            options.seed,
+            options.strategy_images ? 1u : 0u,
+            plan.stream_hash};
   }
 
   std::vector<RunPlan> plans_;

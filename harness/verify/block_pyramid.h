@@ -87,12 +87,12 @@ struct PyramidResult {
 };
 
 // Per block and channel, each replicate's block mean is one observation; the R_a observations of
-// a against the R_b of b give Welch's two-sample test (the paired test with options.paired). A block with zero variance on both sides
-// is tested exactly (p = 1 for equal means, 0 otherwise). A block holding a non-finite value gets
-// p = 0: a NaN or inf pixel is a defect that must not pass. Throws std::invalid_argument for
-// fewer than 2 replicates on a side, images of different sizes, an empty image, alpha outside
-// (0, 1), tile 0, power outside (0, 1), family_size 0, or paired sides of different replicate
-// counts.
+// a against the R_b of b give Welch's two-sample test (the paired test with options.paired). A
+// block with zero variance on both sides is tested exactly (p = 1 for equal means, 0 otherwise). A
+// block holding a non-finite value gets p = 0: a NaN or inf pixel is a defect that must not pass.
+// Throws std::invalid_argument for fewer than 2 replicates on a side, images of different sizes, an
+// empty image, alpha outside (0, 1), tile 0, power outside (0, 1), family_size 0, or paired sides
+// of different replicate counts.
 PyramidResult compare_blocks(std::span<const Image> a, std::span<const Image> b, double alpha,
                              const PyramidOptions& options = {});
 

@@ -54,8 +54,7 @@ Verdict pyramid_verdict(const PyramidResult& t, const ScaleRequirements& require
       "{} block×channel tests{} at {} scales, smallest adjusted p {:.3g} at {} px; detectable bias "
       "on bright blocks at the family's threshold: {}",
       t.tests, t.paired ? " (paired: on the differences of replicates with shared streams)" : "",
-      t.scales.size(), t.min_p_adjusted, t.scales[smallest].block,
-      fmt::join(powers, ", "));
+      t.scales.size(), t.min_p_adjusted, t.scales[smallest].block, fmt::join(powers, ", "));
   return v;
 }
 
