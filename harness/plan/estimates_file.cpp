@@ -325,7 +325,24 @@ std::string run_list(const ReportData& report) {
   return join_names(runs);
 }
 
-ReportData report_from_json(const JsonInput& in, const Json& root) {
+// A string member of a report's object: "" when absent (or null, where it is optional).
+std::string string_member(const JsonInput& in, const Json& object, const std::string& pointer,
+                          const char* key, bool required) {
+  if (!object.contains(key) || (!required && object[key].is_null())) {
+    if (required) in.fail(fmt::format("{}/{}", pointer, key), "missing");
+    return "";
+  }
+  const Json& value = object[key];
+  if (!value.is_string()) {
+    in.fail(fmt::format("{}/{}", pointer, key),
+            fmt::format("expected a string, found {}", kind_of(value)));
+  }
+  return value.get<std::string>();
+}
+
+// The runs of a pcbench report, once its header says it is one: an object of schema_version 1
+// with an array of runs.
+const Json& report_runs(const JsonInput& in, const Json& root) {
   if (!root.is_object()) {
     in.fail("", fmt::format("expected a pcbench report (an object), found {}", kind_of(root)));
   }
@@ -343,67 +360,70 @@ ReportData report_from_json(const JsonInput& in, const Json& root) {
   if (!runs.is_array()) {
     in.fail("/runs", fmt::format("expected an array of runs, found {}", kind_of(runs)));
   }
+  return runs;
+}
+
+// The replicate estimates of an ok run at `at`. pcbench marks a run with a non-finite estimate
+// invalid, so a null estimate in an ok run means the report was altered.
+std::vector<double> ok_run_estimates(const JsonInput& in, const Json& run, const std::string& at) {
+  if (!run.contains("replicates") || !run["replicates"].is_array()) {
+    in.fail(at + "/replicates", "an ok run needs an array of replicates");
+  }
+  const Json& replicates = run["replicates"];
+  std::vector<double> estimates;
+  for (std::size_t r = 0; r < replicates.size(); ++r) {
+    const std::string rep_at = fmt::format("{}/replicates/{}", at, r);
+    const Json& replicate = replicates[r];
+    if (!replicate.is_object() || !replicate.contains("estimate")) {
+      in.fail(rep_at, "expected a replicate object with an \"estimate\"");
+    }
+    const Json& estimate = replicate["estimate"];
+    if (estimate.is_null()) {
+      in.fail(rep_at + "/estimate",
+              "null (non-finite) in a run whose status is ok; pcbench marks a run with a "
+              "non-finite estimate invalid, so this report has been altered");
+    }
+    if (!estimate.is_number()) {
+      in.fail(rep_at + "/estimate", fmt::format("expected a number, found {}", kind_of(estimate)));
+    }
+    estimates.push_back(estimate.get<double>());
+  }
+  return estimates;
+}
+
+// Run `i` of a report: a unique non-empty id (`index_of_id` holds the ids read so far), a known
+// status, and the estimates of an ok run.
+ReportRun report_run(const JsonInput& in, const Json& run, std::size_t i,
+                     std::map<std::string, std::size_t>& index_of_id) {
+  const std::string at = fmt::format("/runs/{}", i);
+  if (!run.is_object()) in.fail(at, fmt::format("expected a run object, found {}", kind_of(run)));
+  ReportRun out;
+  out.id = string_member(in, run, at, "id", true);
+  if (out.id.empty()) in.fail(at + "/id", "empty run id");
+  const auto [it, inserted] = index_of_id.emplace(out.id, i);
+  if (!inserted) {
+    in.fail(at + "/id",
+            fmt::format("run id '{}' appears twice (also /runs/{}/id)", out.id, it->second));
+  }
+  out.estimator = string_member(in, run, at, "estimator", false);
+  out.integrand = string_member(in, run, at, "integrand", false);
+  out.status = string_member(in, run, at, "status", true);
+  constexpr const char* kStatuses[] = {"ok", "invalid", "error", "not_run"};
+  if (std::find(std::begin(kStatuses), std::end(kStatuses), out.status) == std::end(kStatuses)) {
+    in.fail(at + "/status", fmt::format("unknown status '{}'; valid: {}", excerpt(out.status),
+                                        join_names(kStatuses)));
+  }
+  out.error = string_member(in, run, at, "error", false);
+  if (out.status == "ok") out.estimates = ok_run_estimates(in, run, at);
+  return out;
+}
+
+ReportData report_from_json(const JsonInput& in, const Json& root) {
+  const Json& runs = report_runs(in, root);
   ReportData report;
   std::map<std::string, std::size_t> index_of_id;
-  const auto string_member = [&](const Json& object, const std::string& pointer, const char* key,
-                                 bool required) -> std::string {
-    if (!object.contains(key) || (!required && object[key].is_null())) {
-      if (required) in.fail(fmt::format("{}/{}", pointer, key), "missing");
-      return "";
-    }
-    const Json& value = object[key];
-    if (!value.is_string()) {
-      in.fail(fmt::format("{}/{}", pointer, key),
-              fmt::format("expected a string, found {}", kind_of(value)));
-    }
-    return value.get<std::string>();
-  };
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const Json& run = runs[i];
-    const std::string at = fmt::format("/runs/{}", i);
-    if (!run.is_object()) in.fail(at, fmt::format("expected a run object, found {}", kind_of(run)));
-    ReportRun out;
-    out.id = string_member(run, at, "id", true);
-    if (out.id.empty()) in.fail(at + "/id", "empty run id");
-    const auto [it, inserted] = index_of_id.emplace(out.id, i);
-    if (!inserted) {
-      in.fail(at + "/id",
-              fmt::format("run id '{}' appears twice (also /runs/{}/id)", out.id, it->second));
-    }
-    out.estimator = string_member(run, at, "estimator", false);
-    out.integrand = string_member(run, at, "integrand", false);
-    out.status = string_member(run, at, "status", true);
-    constexpr const char* kStatuses[] = {"ok", "invalid", "error", "not_run"};
-    if (std::find(std::begin(kStatuses), std::end(kStatuses), out.status) == std::end(kStatuses)) {
-      in.fail(at + "/status", fmt::format("unknown status '{}'; valid: {}", excerpt(out.status),
-                                          join_names(kStatuses)));
-    }
-    out.error = string_member(run, at, "error", false);
-    if (out.status == "ok") {
-      if (!run.contains("replicates") || !run["replicates"].is_array()) {
-        in.fail(at + "/replicates", "an ok run needs an array of replicates");
-      }
-      const Json& replicates = run["replicates"];
-      for (std::size_t r = 0; r < replicates.size(); ++r) {
-        const std::string rep_at = fmt::format("{}/replicates/{}", at, r);
-        const Json& replicate = replicates[r];
-        if (!replicate.is_object() || !replicate.contains("estimate")) {
-          in.fail(rep_at, "expected a replicate object with an \"estimate\"");
-        }
-        const Json& estimate = replicate["estimate"];
-        if (estimate.is_null()) {
-          in.fail(rep_at + "/estimate",
-                  "null (non-finite) in a run whose status is ok; pcbench marks a run with a "
-                  "non-finite estimate invalid, so this report has been altered");
-        }
-        if (!estimate.is_number()) {
-          in.fail(rep_at + "/estimate",
-                  fmt::format("expected a number, found {}", kind_of(estimate)));
-        }
-        out.estimates.push_back(estimate.get<double>());
-      }
-    }
-    report.runs.push_back(std::move(out));
+    report.runs.push_back(report_run(in, runs[i], i, index_of_id));
   }
   if (root.contains("context") && root["context"].is_object() && root["context"].contains("seed") &&
       root["context"]["seed"].is_number_unsigned()) {

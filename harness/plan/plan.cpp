@@ -226,99 +226,134 @@ RunPlan with_chosen_samples(const RunPlan& plan, std::uint64_t samples) {
   return chosen;
 }
 
-std::vector<RunPlan> plan_runs(const std::vector<ResolvedGrid>& grids,
-                               const BudgetDefaults& budget) {
-  std::vector<RunPlan> plans;
-  struct SeenRow {
+namespace {
+
+void check_expectation(const GridRequest& grid) {
+  if (grid.expect &&
+      std::find(kExpectations.begin(), kExpectations.end(), *grid.expect) == kExpectations.end()) {
+    throw InputError(fmt::format("{}: expect '{}' is not valid; valid: {}", grid.where,
+                                 *grid.expect, join_names(kExpectations)));
+  }
+}
+
+// A budget within the limits: seconds per replicate in range, else samples in range; the camera
+// samples of one run bounded; at least two replicates, since tests need their spread.
+void check_budget(const RunPlan& plan, const std::string& where) {
+  if (plan.seconds &&
+      !(*plan.seconds >= kMinSecondsPerReplicate && *plan.seconds <= kMaxSecondsPerReplicate)) {
+    throw InputError(fmt::format("{}: seconds = {} is out of range [{:g}, {:.0e}]", where,
+                                 *plan.seconds, kMinSecondsPerReplicate, kMaxSecondsPerReplicate));
+  }
+  if (!plan.seconds && (plan.samples < 1 || plan.samples > kMaxSamples)) {
+    throw InputError(
+        fmt::format("{}: samples = {} is out of range [1, {}]", where, plan.samples, kMaxSamples));
+  }
+  // samples <= 2^32 and replicates < 2^32 here: the product fits in 64 bits.
+  if (static_cast<double>(plan.total_samples()) > kMaxTotalSamples) {
+    throw InputError(
+        fmt::format("{}: samples × replicates = {} × {} exceeds {:.0e} camera samples in one run",
+                    where, plan.samples, plan.replicates, kMaxTotalSamples));
+  }
+  if (plan.replicates < 2 || plan.replicates > kMaxReplicates) {
+    throw InputError(fmt::format(
+        "{}: replicates = {} is out of range [2, {}] (tests need the spread across at least "
+        "two replicates)",
+        where, plan.replicates, kMaxReplicates));
+  }
+}
+
+// A run's budget, checked: samples and replicates from the command line, else the row, else the
+// suite, else the integrand kind's default; an equal-time budget (seconds) leaves samples 0 for
+// its pilot to choose.
+void set_budget(RunPlan& plan, const GridRequest& grid, const BudgetDefaults& budget) {
+  plan.samples = budget.forced_samples.value_or(
+      grid.samples.value_or(budget.samples.value_or(default_samples(*plan.integrand))));
+  plan.replicates = budget.forced_replicates.value_or(grid.replicates.value_or(budget.replicates));
+  // Samples given on the command line win over any seconds; seconds on the command line
+  // win over a suite's samples; within a suite a row's budget wins over the defaults.
+  if (!budget.forced_samples) {
+    plan.seconds = budget.forced_seconds;
+    if (!plan.seconds && !grid.samples) plan.seconds = grid.seconds ? grid.seconds : budget.seconds;
+  }
+  if (plan.seconds) plan.samples = 0;
+  check_budget(plan, grid.where);
+}
+
+// The plan of one row of a grid: its parameters resolved against the specs, its budget and
+// expectation, its id; the estimator and integrand are not made yet.
+RunPlan row_plan(const GridRequest& grid, const Row& row, const BudgetDefaults& budget) {
+  RunPlan plan;
+  plan.where = grid.where;
+  plan.estimator = row.estimator;
+  plan.integrand = row.integrand;
+  plan.estimator_params = resolve_params(
+      is_scene(*row.integrand) ? row.estimator->scene_params : row.estimator->params, row.params,
+      fmt::format("{}: estimator '{}'", grid.where, row.estimator->name));
+  plan.integrand_params =
+      resolve_params(row.integrand->params, row.params,
+                     fmt::format("{}: integrand '{}'", grid.where, row.integrand->name));
+  set_budget(plan, grid, budget);
+  plan.expect = grid.expect;
+  assign_id(plan);
+  return plan;
+}
+
+// The runs planned so far, by id, with the expectation and the grid of the first.
+class SeenRuns {
+ public:
+  // Whether `plan` is the first with its id. Identical rows collapse into one; the same run
+  // expected to give two different verdicts is a contradiction in the suite, not something to
+  // settle by row order.
+  bool first(const RunPlan& plan) {
+    const auto [it, inserted] = seen_.emplace(plan.id_hash, Seen{plan.expect, plan.where});
+    if (!inserted && it->second.expect != plan.expect) {
+      throw InputError(fmt::format("{}: the same run as {} with a different expectation ({} vs {})",
+                                   plan.where, it->second.where, plan.expect.value_or("default"),
+                                   it->second.expect.value_or("default")));
+    }
+    return inserted;
+  }
+
+ private:
+  struct Seen {
     std::optional<std::string> expect;
     std::string where;
   };
-  std::map<std::uint64_t, SeenRow> seen;
+  std::map<std::uint64_t, Seen> seen_;
+};
+
+// The estimator (the renderer, on a scene) and the integrand a plan runs, made from its
+// parameters; their InputError names the grid and the pair.
+void make_objects(RunPlan& plan) {
+  const std::string where =
+      fmt::format("{}: {} × {}", plan.where, plan.estimator->name, plan.integrand->name);
+  try {
+    if (is_scene(*plan.integrand)) {
+      plan.render = plan.estimator->make_render(plan.estimator_params);
+    } else {
+      plan.made_estimator = plan.estimator->make(plan.estimator_params);
+    }
+    plan.made_integrand = plan.integrand->make(plan.integrand_params);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", where, e.what()));
+  }
+}
+
+}  // namespace
+
+std::vector<RunPlan> plan_runs(const std::vector<ResolvedGrid>& grids,
+                               const BudgetDefaults& budget) {
+  std::vector<RunPlan> plans;
+  SeenRuns seen;
   std::size_t rows_so_far = 0;  // before identical rows collapse: what expanding costs
   for (const ResolvedGrid& resolved : grids) {
-    const GridRequest& grid = resolved.request;
-    if (grid.expect && std::find(kExpectations.begin(), kExpectations.end(), *grid.expect) ==
-                           kExpectations.end()) {
-      throw InputError(fmt::format("{}: expect '{}' is not valid; valid: {}", grid.where,
-                                   *grid.expect, join_names(kExpectations)));
-    }
-    std::vector<Row> rows = expand(resolved, rows_so_far);
+    check_expectation(resolved.request);
+    const std::vector<Row> rows = expand(resolved, rows_so_far);
     rows_so_far += rows.size();
-    for (Row& row : rows) {
-      RunPlan plan;
-      plan.where = grid.where;
-      plan.estimator = row.estimator;
-      plan.integrand = row.integrand;
-      const bool scene = is_scene(*row.integrand);
-      plan.estimator_params =
-          resolve_params(scene ? row.estimator->scene_params : row.estimator->params, row.params,
-                         fmt::format("{}: estimator '{}'", grid.where, row.estimator->name));
-      plan.integrand_params =
-          resolve_params(row.integrand->params, row.params,
-                         fmt::format("{}: integrand '{}'", grid.where, row.integrand->name));
-      // The command line, else the row, else the suite, else the integrand kind's default.
-      plan.samples = budget.forced_samples.value_or(
-          grid.samples.value_or(budget.samples.value_or(default_samples(*row.integrand))));
-      plan.replicates =
-          budget.forced_replicates.value_or(grid.replicates.value_or(budget.replicates));
-      // Samples given on the command line win over any seconds; seconds on the command line
-      // win over a suite's samples; within a suite a row's budget wins over the defaults.
-      if (!budget.forced_samples) {
-        plan.seconds = budget.forced_seconds;
-        if (!plan.seconds && !grid.samples)
-          plan.seconds = grid.seconds ? grid.seconds : budget.seconds;
-      }
-      if (plan.seconds &&
-          !(*plan.seconds >= kMinSecondsPerReplicate && *plan.seconds <= kMaxSecondsPerReplicate)) {
-        throw InputError(fmt::format("{}: seconds = {} is out of range [{:g}, {:.0e}]", grid.where,
-                                     *plan.seconds, kMinSecondsPerReplicate,
-                                     kMaxSecondsPerReplicate));
-      }
-      if (plan.seconds) plan.samples = 0;
-      if (!plan.seconds && (plan.samples < 1 || plan.samples > kMaxSamples)) {
-        throw InputError(fmt::format("{}: samples = {} is out of range [1, {}]", grid.where,
-                                     plan.samples, kMaxSamples));
-      }
-      // samples <= 2^32 and replicates < 2^32 here: the product fits in 64 bits.
-      if (static_cast<double>(plan.total_samples()) > kMaxTotalSamples) {
-        throw InputError(fmt::format(
-            "{}: samples × replicates = {} × {} exceeds {:.0e} camera samples in one run",
-            grid.where, plan.samples, plan.replicates, kMaxTotalSamples));
-      }
-      if (plan.replicates < 2 || plan.replicates > kMaxReplicates) {
-        throw InputError(fmt::format(
-            "{}: replicates = {} is out of range [2, {}] (tests need the spread across at least "
-            "two replicates)",
-            grid.where, plan.replicates, kMaxReplicates));
-      }
-      plan.expect = grid.expect;
-
-      assign_id(plan);
-      // Identical rows collapse into one; the same run expected to give two different verdicts
-      // is a contradiction in the suite, not something to settle by row order.
-      const auto [it, inserted] = seen.emplace(plan.id_hash, SeenRow{plan.expect, grid.where});
-      if (!inserted) {
-        if (it->second.expect != plan.expect) {
-          throw InputError(
-              fmt::format("{}: the same run as {} with a different expectation ({} vs {})",
-                          grid.where, it->second.where, plan.expect.value_or("default"),
-                          it->second.expect.value_or("default")));
-        }
-        continue;
-      }
-
-      const std::string where =
-          fmt::format("{}: {} × {}", grid.where, row.estimator->name, row.integrand->name);
-      try {
-        if (scene) {
-          plan.render = row.estimator->make_render(plan.estimator_params);
-        } else {
-          plan.made_estimator = row.estimator->make(plan.estimator_params);
-        }
-        plan.made_integrand = row.integrand->make(plan.integrand_params);
-      } catch (const InputError& e) {
-        throw InputError(fmt::format("{}: {}", where, e.what()));
-      }
+    for (const Row& row : rows) {
+      RunPlan plan = row_plan(resolved.request, row, budget);
+      if (!seen.first(plan)) continue;
+      make_objects(plan);
       plans.push_back(std::move(plan));
     }
   }

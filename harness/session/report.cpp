@@ -117,12 +117,9 @@ Json params_json(const RunPlan& plan) {
   return params;
 }
 
-Json run_json(const RunRecord& record, std::uint64_t seed) {
-  const RunPlan& plan = *record.plan;
-  const RunResult& result = record.result;
-  NumberWriter numbers;
-  const Json params = params_json(plan);
-
+// Each replicate's figures. Where the samples of a replicate share a pool, their variance
+// estimates nothing useful and is null.
+Json replicates_json(const RunResult& result, NumberWriter& numbers) {
   Json replicates = Json::array();
   for (std::size_t r = 0; r < result.replicates.size(); ++r) {
     const ReplicateResult& rep = result.replicates[r];
@@ -140,62 +137,117 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
         {"nonzero", rep.nonzero},
         {"effective_samples", numbers.number(rep.effective_samples, at + "effective_samples")}});
   }
+  return replicates;
+}
 
+// The figures over all replicates. Without a reference the errors are undefined (null by
+// design); so is a relative MSE against a zero reference, and an RMSE slope from fewer than three
+// points of the series.
+Json aggregates_json(const Aggregates& a, const Reference& reference, NumberWriter& numbers) {
+  const bool has_reference = reference.kind != ReferenceKind::kNone;
+  const auto with_reference = [&](double value, const char* name) {
+    return has_reference ? numbers.number(value, fmt::format("aggregates/{}", name))
+                         : Json(nullptr);
+  };
+  return Json{
+      {"mean", numbers.number(a.mean, "aggregates/mean")},
+      {"stderr", numbers.number(a.stderr_of_mean, "aggregates/stderr")},
+      {"bias", with_reference(a.bias, "bias")},
+      {"rmse", with_reference(a.rmse, "rmse")},
+      {"rel_mse", has_reference && reference.value != 0.0
+                      ? numbers.number(a.rel_mse, "aggregates/rel_mse")
+                      : Json(nullptr)},
+      {"seconds_per_sample", numbers.number(a.seconds_per_sample, "aggregates/seconds_per_sample")},
+      {"efficiency", numbers.number(a.efficiency, "aggregates/efficiency")},
+      {"efficiency_low", numbers.number(a.efficiency_low, "aggregates/efficiency_low")},
+      {"efficiency_high", numbers.number(a.efficiency_high, "aggregates/efficiency_high")},
+      {"rmse_slope", has_reference && a.series.size() >= 3
+                         ? numbers.number(a.rmse_slope, "aggregates/rmse_slope")
+                         : Json(nullptr)},
+      {"mean_abs", numbers.number(a.mean_abs, "aggregates/mean_abs")}};
+}
+
+// The convergence series: the replicates' mean and errors at each checkpoint.
+Json series_json(const Aggregates& a, bool has_reference, NumberWriter& numbers) {
+  Json series = Json::array();
+  for (std::size_t k = 0; k < a.series.size(); ++k) {
+    const SeriesPoint& p = a.series[k];
+    const std::string at = fmt::format("series/{}/", k);
+    series.push_back({{"samples", p.samples},
+                      {"mean", numbers.number(p.mean, at + "mean")},
+                      {"stderr", numbers.number(p.stderr_of_mean, at + "stderr")},
+                      {"bias", has_reference ? numbers.number(p.bias, at + "bias") : Json(nullptr)},
+                      {"rmse", has_reference ? numbers.number(p.rmse, at + "rmse") : Json(nullptr)},
+                      {"cpu_seconds", p.cpu_seconds},
+                      {"seconds", p.seconds}});
+  }
+  return series;
+}
+
+// Where the first non-finite sample was, with the command that replays it; null when there was
+// none.
+Json first_nonfinite_json(const RunPlan& plan, const RunResult& result, std::uint64_t seed) {
+  if (!result.first_nonfinite) return nullptr;
+  Json where{{"seed", seed},
+             {"replicate", result.first_nonfinite->replicate},
+             {"sample", result.first_nonfinite->sample}};
+  if (const auto command = replay_command(plan, *result.first_nonfinite)) {
+    where["replay"] = *command;
+  }
+  return where;
+}
+
+// Scene pixels of one iteration share its light pool (and plain's W·H light paths); an analytic
+// estimator's pool is its parameter, else each sample draws afresh.
+std::string pool_of(const RunPlan& plan) {
+  if (plan.render) return "shared";
+  return plan.estimator_params.has("pool") ? plan.estimator_params.text("pool") : "fresh";
+}
+
+// How the run's samples were chosen: given, or an equal-time budget and its pilot's measurement.
+Json budget_json(const RunPlan& plan) {
+  return Json{{"seconds", plan.seconds ? Json(*plan.seconds) : Json(nullptr)},
+              {"pilot_samples", plan.pilot_samples},
+              {"pilot_cpu_seconds_per_sample", plan.pilot_cpu_per_sample}};
+}
+
+// The sample diagnostics behind an inconclusive verdict (harness/run/diagnostics.h).
+Json diagnostics_json(const SampleDiagnostics& d) {
+  return Json{{"tail_shape", NumberWriter::optional_number(d.tail_shape)},
+              {"tail_size", d.tail_size},
+              {"largest_share", NumberWriter::optional_number(d.largest_share)},
+              {"nonzero_samples", d.nonzero},
+              {"min_effective_samples", NumberWriter::optional_number(d.min_effective_samples)}};
+}
+
+// The work counters, then a scene run's own (rays by kind, skipped connections, BVH builds).
+Json counters_json(const RunResult& result) {
+  const Counters& c = result.counters;
+  Json counters{{"camera_paths", c.camera_paths},
+                {"light_paths", c.light_paths},
+                {"connections", c.connections},
+                {"importance_evaluations", c.importance_evaluations}};
+  for (const auto& [name, count] : result.scene_counters) counters[name] = count;
+  return counters;
+}
+
+// One run in the report's form. The parts that can hold non-finite results are written first, in
+// a fixed order, so that `nonfinite_fields` names them in the same order every time.
+Json run_json(const RunRecord& record, std::uint64_t seed) {
+  const RunPlan& plan = *record.plan;
+  const RunResult& result = record.result;
+  NumberWriter numbers;
+  const Json replicates = replicates_json(result, numbers);
   Json aggregates = nullptr;
   Json series = Json::array();
   if (result.status == RunStatus::kOk || result.status == RunStatus::kInvalid) {
-    const Aggregates& a = record.aggregates;
-    const bool has_reference = result.reference.kind != ReferenceKind::kNone;
-    const auto with_reference = [&](double value, const char* name) {
-      return has_reference ? numbers.number(value, fmt::format("aggregates/{}", name))
-                           : Json(nullptr);
-    };
-    aggregates =
-        Json{{"mean", numbers.number(a.mean, "aggregates/mean")},
-             {"stderr", numbers.number(a.stderr_of_mean, "aggregates/stderr")},
-             {"bias", with_reference(a.bias, "bias")},
-             {"rmse", with_reference(a.rmse, "rmse")},
-             {"rel_mse", has_reference && result.reference.value != 0.0
-                             ? numbers.number(a.rel_mse, "aggregates/rel_mse")
-                             : Json(nullptr)},
-             {"seconds_per_sample",
-              numbers.number(a.seconds_per_sample, "aggregates/seconds_per_sample")},
-             {"efficiency", numbers.number(a.efficiency, "aggregates/efficiency")},
-             {"efficiency_low", numbers.number(a.efficiency_low, "aggregates/efficiency_low")},
-             {"efficiency_high", numbers.number(a.efficiency_high, "aggregates/efficiency_high")},
-             {"rmse_slope", has_reference && a.series.size() >= 3
-                                ? numbers.number(a.rmse_slope, "aggregates/rmse_slope")
-                                : Json(nullptr)},
-             {"mean_abs", numbers.number(a.mean_abs, "aggregates/mean_abs")}};
-    for (std::size_t k = 0; k < a.series.size(); ++k) {
-      const SeriesPoint& p = a.series[k];
-      const std::string at = fmt::format("series/{}/", k);
-      series.push_back(
-          {{"samples", p.samples},
-           {"mean", numbers.number(p.mean, at + "mean")},
-           {"stderr", numbers.number(p.stderr_of_mean, at + "stderr")},
-           {"bias", has_reference ? numbers.number(p.bias, at + "bias") : Json(nullptr)},
-           {"rmse", has_reference ? numbers.number(p.rmse, at + "rmse") : Json(nullptr)},
-           {"cpu_seconds", p.cpu_seconds},
-           {"seconds", p.seconds}});
-    }
+    aggregates = aggregates_json(record.aggregates, result.reference, numbers);
+    series = series_json(record.aggregates, result.reference.kind != ReferenceKind::kNone, numbers);
   }
-
-  Json first_nonfinite = nullptr;
-  if (result.first_nonfinite) {
-    first_nonfinite = Json{{"seed", seed},
-                           {"replicate", result.first_nonfinite->replicate},
-                           {"sample", result.first_nonfinite->sample}};
-    if (const auto command = replay_command(plan, *result.first_nonfinite)) {
-      first_nonfinite["replay"] = *command;
-    }
-  }
-
-  const Counters& c = result.counters;
   Json run{{"id", plan.id},
            {"estimator", plan.estimator->name},
            {"integrand", plan.integrand->name},
-           {"params", params},
+           {"params", params_json(plan)},
            // The integrand's share of `params`: what makes runs on the same integrand comparable.
            {"integrand_params", params_json(plan.integrand_params)},
            {"status", to_string(result.status)},
@@ -203,33 +255,18 @@ Json run_json(const RunRecord& record, std::uint64_t seed) {
            {"reference", reference_json(result.reference, numbers)},
            {"samples", plan.samples},
            {"replicates_requested", plan.replicates},
-           // Scene pixels of one iteration share its light pool (and plain's W·H light paths).
-           {"pool", plan.render                         ? "shared"
-                    : plan.estimator_params.has("pool") ? plan.estimator_params.text("pool")
-                                                        : "fresh"},
+           {"pool", pool_of(plan)},
            {"streams", plan.paired_streams ? "paired" : "own"},
            {"wall_seconds", result.wall_seconds},
            {"replicates", replicates},
            {"aggregates", aggregates},
            {"verdict", record.verdict ? verdict_json(*record.verdict, numbers) : Json(nullptr)},
            {"escalation", escalation_json(record.earlier_stages)},
-           {"budget", Json{{"seconds", plan.seconds ? Json(*plan.seconds) : Json(nullptr)},
-                           {"pilot_samples", plan.pilot_samples},
-                           {"pilot_cpu_seconds_per_sample", plan.pilot_cpu_per_sample}}},
-           {"diagnostics",
-            Json{{"tail_shape", NumberWriter::optional_number(record.diagnostics.tail_shape)},
-                 {"tail_size", record.diagnostics.tail_size},
-                 {"largest_share", NumberWriter::optional_number(record.diagnostics.largest_share)},
-                 {"nonzero_samples", record.diagnostics.nonzero},
-                 {"min_effective_samples",
-                  NumberWriter::optional_number(record.diagnostics.min_effective_samples)}}},
-           {"first_nonfinite", first_nonfinite},
-           {"counters", Json{{"camera_paths", c.camera_paths},
-                             {"light_paths", c.light_paths},
-                             {"connections", c.connections},
-                             {"importance_evaluations", c.importance_evaluations}}},
+           {"budget", budget_json(plan)},
+           {"diagnostics", diagnostics_json(record.diagnostics)},
+           {"first_nonfinite", first_nonfinite_json(plan, result, seed)},
+           {"counters", counters_json(result)},
            {"series", series}};
-  for (const auto& [name, count] : record.result.scene_counters) run["counters"][name] = count;
   if (record.image) run["image"] = *record.image;
   run["nonfinite_fields"] = numbers.nonfinite();
   return run;

@@ -81,6 +81,10 @@ struct SessionOptions {
 // MPI job) are copies of it with that field set.
 RunnerOptions runner_options(const SessionOptions& options);
 
+// Runs `plans` as one session, in named steps: choose budgets (equal-time pilots) and execute
+// (interleaved, over an MPI farm, or one by one; harness/session/execution.h), test the family
+// and escalate (harness/session/family_test.h), publish the report (session.cpp). Returns the
+// exit status.
 int run_session(const std::vector<RunPlan>& plans, const SessionOptions& options, std::ostream& out,
                 std::ostream& err);
 

@@ -176,14 +176,22 @@ std::string image_file(const std::string& run_id, const char* kind) {
   return fmt::format("images/{}_{}.exr", run_id, kind);
 }
 
-}  // namespace
-
-void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder,
-                        const ReferenceCache* cache, bool replicate_images, std::ostream& warn) {
-  // The best-converged honest images per scene (smallest mean standard error first): a run's
-  // reference where there is no exact one is the best of the others.
+// The session's scene runs, measured once: each one's pixel statistics, and per scene the honest
+// runs that sample every path, best converged (smallest mean standard error) first. A run's
+// reference where there is no exact image is the best of the others.
+struct SceneRuns {
   std::map<const IntegrandEntry*, std::vector<std::pair<double, const RunRecord*>>> converged;
   std::map<const RunRecord*, PixelStatistics> stats;
+
+  // The best-converged honest run of r's scene other than r; null when there is none.
+  const RunRecord* best_other_than(const RunRecord& r) const {
+    const auto runs = converged.find(r.plan->integrand);
+    return runs == converged.end() ? nullptr : best_other(runs->second, &r);
+  }
+};
+
+SceneRuns measure_scene_runs(const std::vector<RunRecord>& records) {
+  SceneRuns out;
   for (const RunRecord& r : records) {
     const SceneIntegrand* scene = scene_of(r);
     if (!scene) continue;
@@ -192,105 +200,156 @@ void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder,
     for (double v : s.standard_error.values) se += v;
     se /= static_cast<double>(s.standard_error.values.size());
     if (!r.plan->estimator->biased && samples_all_paths(r, scene->scene())) {
-      converged[r.plan->integrand].emplace_back(se, &r);
+      out.converged[r.plan->integrand].emplace_back(se, &r);
     }
-    stats.emplace(&r, std::move(s));
+    out.stats.emplace(&r, std::move(s));
   }
-  for (auto& [integrand, runs] : converged) std::sort(runs.begin(), runs.end());
-  // Cached converged images, looked up (and copied beside the report) once per scene.
-  std::map<const scene::Scene*, std::optional<CachedCopy>> cached;
-  const auto cached_reference = [&](const scene::Scene& s) -> const CachedCopy* {
-    auto [it, inserted] = cached.try_emplace(&s);
-    if (inserted && cache) {
-      if (auto found = cache->find(s.description(), warn)) {
+  for (auto& [integrand, runs] : out.converged) std::sort(runs.begin(), runs.end());
+  return out;
+}
+
+// The cache's converged image of each scene, looked up (and copied beside the report) once per
+// scene, when a run first asks for it: an unreadable entry is reported on `warn` once.
+class CachedReferences {
+ public:
+  CachedReferences(const fs::path& folder, const ReferenceCache* cache, std::ostream& warn)
+      : folder_(folder), cache_(cache), warn_(warn) {}
+
+  const CachedCopy* find(const scene::Scene& s) {
+    auto [it, inserted] = copies_.try_emplace(&s);
+    if (inserted && cache_) {
+      if (auto found = cache_->find(s.description(), warn_)) {
         const std::string name =
             fmt::format("images/reference_{}.exr", reference_key(s.description()));
-        write_exr_rgb(folder / name, found->mean);
+        write_exr_rgb(folder_ / name, found->mean);
         it->second = CachedCopy{std::move(*found), name};
       }
     }
     return it->second ? &*it->second : nullptr;
-  };
+  }
+
+ private:
+  const fs::path& folder_;
+  const ReferenceCache* cache_;
+  std::ostream& warn_;
+  std::map<const scene::Scene*, std::optional<CachedCopy>> copies_;
+};
+
+// One run's image section as it is written: the section, and its `files` member that names each
+// image written (relative to the report folder).
+struct ImageSection {
+  const fs::path& folder;
+  const std::string& stem;  // the run's id
+  nlohmann::ordered_json image;
+  nlohmann::ordered_json files;
+
+  void write(const char* kind, const Image& picture) {
+    const std::string name = image_file(stem, kind);
+    write_exr_rgb(folder / name, picture);
+    files[kind] = name;
+  }
+};
+
+// Each replicate image (for other tools and `verify --images`), named in files.replicates.
+void write_replicate_images(ImageSection& section, const RunRecord& r) {
+  nlohmann::ordered_json names = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < r.result.images.size(); ++k) {
+    const std::string name = image_file(section.stem, fmt::format("rep{}", k).c_str());
+    write_exr_rgb(section.folder / name, r.result.images[k]);
+    names.push_back(name);
+  }
+  section.files["replicates"] = std::move(names);
+}
+
+// The pixel test, with its z map: against the exact image, or else the best other honest run of
+// this session (never the cache: verification trusts no stored image). Nothing without either.
+void add_pixel_test(ImageSection& section, const RunRecord& r, const PixelStatistics& s,
+                    const std::optional<Image>& exact, const RunRecord* other,
+                    const SceneRuns& runs) {
+  if (!exact && !other) return;
+  const Image z = other ? z_map(s, runs.stats.at(other)) : z_map(s, *exact);
+  const PixelTestSummary pixels =
+      summarize_z(z, r.result.images,
+                  other ? std::span<const Image>(other->result.images) : std::span(&*exact, 1));
+  section.image["pixel_test"] = {
+      {"test", "pixel-z"},
+      {"against", other ? "run " + other->plan->id : "exact"},
+      {"statistic", pixels.max_abs_z},
+      {"pixels_beyond_4_sigma", pixels.pixels_beyond_4_sigma},
+      {"expected_beyond_4_sigma_at_most", pixels.expected_beyond_4_sigma},
+      {"low_count_pixels", pixels.low_count_pixels}};
+  section.write("zmap", z);
+}
+
+// The errors: against the exact image, else a cached converged image, else the best other run.
+// The reference's file is named so that plots show it without recomputing it.
+void add_errors(ImageSection& section, const RunRecord& r, const PixelStatistics& s,
+                const std::optional<Image>& exact, const CachedCopy* copy, const RunRecord* other,
+                const SceneRuns& runs) {
+  const Image* reference = nullptr;
+  const Image* reference_stderr = nullptr;
+  if (exact) {
+    reference = &*exact;
+    section.image["reference"] = "exact";
+    section.write("reference", *exact);
+  } else if (copy) {
+    reference = &copy->image.mean;
+    reference_stderr = &copy->image.standard_error;
+    section.image["reference"] = "cache";
+    section.image["reference_cache"] = copy->image.provenance;
+    section.files["reference"] = copy->file;
+  } else if (other) {
+    reference = &runs.stats.at(other).mean;
+    reference_stderr = &runs.stats.at(other).standard_error;
+    section.image["reference"] = "run " + other->plan->id;
+    section.files["reference"] = image_file(other->plan->id, "mean");
+  } else {
+    section.image["reference"] = "none";
+  }
+  if (reference) {
+    section.image.update(image_error_fields(r.result.images, r.result.replicates, s.mean,
+                                            *reference, reference_stderr));
+  }
+}
+
+// One scene run's images under folder/images/ and its image section.
+nlohmann::ordered_json scene_image_section(const RunRecord& r, const SceneIntegrand& scene,
+                                           const SceneRuns& runs, CachedReferences& cached,
+                                           const fs::path& folder, bool replicate_images) {
+  const PixelStatistics& s = runs.stats.at(&r);
+  fs::create_directories(folder / "images");
+  ImageSection section{.folder = folder, .stem = r.plan->id, .image = {}, .files = {}};
+  section.write("mean", s.mean);
+  section.write("stderr", s.standard_error);
+  if (replicate_images) write_replicate_images(section, r);
+  section.image = {{"width", s.mean.width}, {"height", s.mean.height}};
+  section.image["rays_per_cpu_second"] = rays_per_cpu_second(r);
+
+  const std::optional<Image> exact = exact_image(scene);
+  const RunRecord* other = exact ? nullptr : runs.best_other_than(r);
+  add_pixel_test(section, r, s, exact, other, runs);
+  const CachedCopy* copy = exact ? nullptr : cached.find(scene.scene());
+  add_errors(section, r, s, exact, copy, other, runs);
+  if (r.result.strategy_images) {
+    const std::string name = image_file(section.stem, "strategies");
+    write_strategy_exr(folder / name, *r.result.strategy_images);
+    section.files["strategies"] = name;
+    section.image["strategies"] = strategy_shares_json(*r.result.strategy_images, s.mean);
+  }
+  section.image["files"] = section.files;
+  return std::move(section.image);
+}
+
+}  // namespace
+
+void write_scene_images(std::vector<RunRecord>& records, const fs::path& folder,
+                        const ReferenceCache* cache, bool replicate_images, std::ostream& warn) {
+  const SceneRuns runs = measure_scene_runs(records);
+  CachedReferences cached(folder, cache, warn);
   for (RunRecord& r : records) {
     const SceneIntegrand* scene = scene_of(r);
     if (!scene) continue;
-    const PixelStatistics& s = stats.at(&r);
-    fs::create_directories(folder / "images");
-    const std::string stem = r.plan->id;
-    nlohmann::ordered_json files;
-    // Writes one image of this run and names it in `files`.
-    const auto write_image = [&](const char* kind, const Image& image) {
-      const std::string name = image_file(stem, kind);
-      write_exr_rgb(folder / name, image);
-      files[kind] = name;
-    };
-    write_image("mean", s.mean);
-    write_image("stderr", s.standard_error);
-    if (replicate_images) {
-      nlohmann::ordered_json names = nlohmann::ordered_json::array();
-      for (std::size_t k = 0; k < r.result.images.size(); ++k) {
-        const std::string name = image_file(stem, fmt::format("rep{}", k).c_str());
-        write_exr_rgb(folder / name, r.result.images[k]);
-        names.push_back(name);
-      }
-      files["replicates"] = std::move(names);
-    }
-    nlohmann::ordered_json image = {{"width", s.mean.width}, {"height", s.mean.height}};
-    image["rays_per_cpu_second"] = rays_per_cpu_second(r);
-
-    // The pixel test: against the exact image, or else the best other honest run of this
-    // session (never the cache: verification trusts no stored image).
-    const std::optional<Image> exact = exact_image(*scene);
-    const RunRecord* other = exact ? nullptr : best_other(converged[r.plan->integrand], &r);
-    if (exact || other) {
-      const Image z = other ? z_map(s, stats.at(other)) : z_map(s, *exact);
-      const PixelTestSummary pixels =
-          summarize_z(z, r.result.images,
-                      other ? std::span<const Image>(other->result.images) : std::span(&*exact, 1));
-      image["pixel_test"] = {{"test", "pixel-z"},
-                             {"against", other ? "run " + other->plan->id : "exact"},
-                             {"statistic", pixels.max_abs_z},
-                             {"pixels_beyond_4_sigma", pixels.pixels_beyond_4_sigma},
-                             {"expected_beyond_4_sigma_at_most", pixels.expected_beyond_4_sigma},
-                             {"low_count_pixels", pixels.low_count_pixels}};
-      write_image("zmap", z);
-    }
-
-    // The errors: against the exact image, else a cached converged image, else the best other
-    // run. Its file is named so that plots show it without recomputing it.
-    const CachedCopy* copy = exact ? nullptr : cached_reference(scene->scene());
-    const Image* reference = nullptr;
-    const Image* reference_stderr = nullptr;
-    if (exact) {
-      reference = &*exact;
-      image["reference"] = "exact";
-      write_image("reference", *exact);
-    } else if (copy) {
-      reference = &copy->image.mean;
-      reference_stderr = &copy->image.standard_error;
-      image["reference"] = "cache";
-      image["reference_cache"] = copy->image.provenance;
-      files["reference"] = copy->file;
-    } else if (other) {
-      reference = &stats.at(other).mean;
-      reference_stderr = &stats.at(other).standard_error;
-      image["reference"] = "run " + other->plan->id;
-      files["reference"] = image_file(other->plan->id, "mean");
-    } else {
-      image["reference"] = "none";
-    }
-    if (reference) {
-      image.update(image_error_fields(r.result.images, r.result.replicates, s.mean, *reference,
-                                      reference_stderr));
-    }
-    if (r.result.strategy_images) {
-      const std::string name = image_file(stem, "strategies");
-      write_strategy_exr(folder / name, *r.result.strategy_images);
-      files["strategies"] = name;
-      image["strategies"] = strategy_shares_json(*r.result.strategy_images, s.mean);
-    }
-    image["files"] = files;
-    r.image = std::move(image);
+    r.image = scene_image_section(r, *scene, runs, cached, folder, replicate_images);
   }
 }
 
