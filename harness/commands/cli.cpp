@@ -21,9 +21,9 @@
 #include "harness/commands/list_command.h"
 #include "harness/commands/plot_command.h"
 #include "harness/commands/reference_command.h"
+#include "harness/commands/replay_command.h"
 #include "harness/plan/plan.h"
 #include "harness/plan/suite_file.h"
-#include "harness/run/replay.h"
 #include "harness/run/replicate_farm.h"
 #include "harness/session/session.h"
 #include "harness/session/shard.h"
@@ -455,55 +455,6 @@ int reference_command(const ReferenceArguments& args, const CommandContext& cont
                                 .argv = context.argv,
                                 .farm = replicate_farm(plans)},
                                context.out, context.err);
-}
-
-// The run's selection and budget, and the sample to evaluate.
-struct ReplayArguments {
-  std::vector<std::string> estimators;
-  std::vector<std::string> integrands;
-  std::vector<std::string> params;  // key=value
-  std::uint64_t samples = 0;
-  std::uint32_t replicates = 0;
-  std::uint64_t seed = kDefaultSeed;
-  std::uint32_t replicate = 0;
-  std::uint64_t sample = 0;
-  std::optional<std::string> run_id;
-  bool json = false;
-};
-
-CLI::App* add_replay_command(CLI::App& app, ReplayArguments& args) {
-  CLI::App* replay = app.add_subcommand(
-      "replay",
-      "re-evaluate one camera sample of a run with its random streams (the command a run with a "
-      "non-finite sample prints)");
-  replay->add_option("--estimator,-e", args.estimators, "the run's estimator")->required();
-  replay->add_option("--integrand,-i", args.integrands, "the run's integrand")->required();
-  replay->add_option("--param,-p", args.params, "key=value, repeatable: the run's parameters");
-  replay->add_option("--samples,-n", args.samples, "the run's camera samples per replicate")
-      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
-  replay->add_option("--replicates,-r", args.replicates, "the run's replicates")
-      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
-  add_seed_option(replay, args.seed, "the run's seed (default 1)");
-  replay->add_option("--replicate", args.replicate, "the replicate (0-based)")->required();
-  replay->add_option("--sample", args.sample, "the camera sample within it (0-based)")->required();
-  replay->add_option("--run-id", args.run_id,
-                     "refuse unless the options rebuild this run id (16 hex digits)");
-  replay->add_flag("--json", args.json, "print as JSON (non-finite numbers as \"nan\", \"inf\")");
-  return replay;
-}
-
-int replay_command(const ReplayArguments& args, const CommandContext& context) {
-  const ResolvedGrid grid = command_line_grid(args.estimators, args.integrands, args.params);
-  BudgetDefaults budget;
-  if (context.app.count("--samples")) budget.forced_samples = args.samples;
-  if (context.app.count("--replicates")) budget.forced_replicates = args.replicates;
-  const std::vector<RunPlan> plans = plan_runs({grid}, budget);
-  if (plans.size() != 1) {
-    throw InputError(
-        fmt::format("command line: replay takes one run; these options plan {}", plans.size()));
-  }
-  return run_replay(plans[0], args.seed, args.replicate, args.sample, args.run_id, args.json,
-                    context.out);
 }
 
 struct CompareArguments : ReportArguments {
