@@ -399,28 +399,6 @@ int verify_command(const RunArguments& given, const CommandContext& context) {
   return run_command(args, context);
 }
 
-struct CompareArguments : ReportArguments {
-  std::vector<std::string> reports;  // A and B
-};
-
-CLI::App* add_compare_command(CLI::App& app, CompareArguments& args) {
-  CLI::App* compare = app.add_subcommand(
-      "compare", "two-sample tests between the runs with the same id in two reports");
-  compare->add_option("reports", args.reports, "report A and report B")->required()->expected(2);
-  compare->add_option("--alpha", args.alpha, "family-wise false-alarm rate (default 0.01)")
-      ->check(alpha_check());
-  compare->add_option("--out,-o", args.out_dir,
-                      "output folder (default results/runs/<date-time>/)");
-  compare->add_flag("--quiet,-q", args.quiet, "no table");
-  return compare;
-}
-
-int compare_command(const CompareArguments& args, const CommandContext& context) {
-  prepare_out_dir(args.out_dir, context.app.count("--out") > 0);
-  return run_compare_command(args.reports[0], args.reports[1], session_options(args, context),
-                             context.out, context.err);
-}
-
 struct ListArguments {
   bool json = false;
 };
