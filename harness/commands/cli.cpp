@@ -399,21 +399,6 @@ int verify_command(const RunArguments& given, const CommandContext& context) {
   return run_command(args, context);
 }
 
-struct ListArguments {
-  bool json = false;
-};
-
-CLI::App* add_list_command(CLI::App& app, ListArguments& args) {
-  CLI::App* list = app.add_subcommand("list", "estimators, integrands and scenes, with parameters");
-  list->add_flag("--json", args.json, "print as JSON");
-  return list;
-}
-
-int list_command(const ListArguments& args, const CommandContext& context) {
-  print_registry(context.out, args.json);
-  return kExitOk;
-}
-
 struct MergeArguments {
   std::vector<std::string> folders;  // the shards' --out folders
   std::string out;                   // the report's folder

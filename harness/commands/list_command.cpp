@@ -3,10 +3,12 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <ostream>
 
 #include "estimators/registry.h"
+#include "harness/session/session.h"
 #include "integrands/registry.h"
 
 namespace pcbench {
@@ -122,6 +124,17 @@ void print_registry(std::ostream& out, bool as_json) {
     out << fmt::format("  {:<20} {}{}\n", i.name, i.exact ? "[exact] " : "", i.description);
     print_params(out, i.params);
   }
+}
+
+CLI::App* add_list_command(CLI::App& app, ListArguments& args) {
+  CLI::App* list = app.add_subcommand("list", "estimators, integrands and scenes, with parameters");
+  list->add_flag("--json", args.json, "print as JSON");
+  return list;
+}
+
+int list_command(const ListArguments& args, const CommandContext& context) {
+  print_registry(context.out, args.json);
+  return kExitOk;
 }
 
 }  // namespace pcbench
