@@ -19,6 +19,7 @@
 #include "harness/commands/external_verify.h"
 #include "harness/commands/image_set_verify.h"
 #include "harness/commands/list_command.h"
+#include "harness/commands/merge_command.h"
 #include "harness/commands/plot_command.h"
 #include "harness/commands/reference_command.h"
 #include "harness/commands/replay_command.h"
@@ -397,26 +398,6 @@ int verify_command(const RunArguments& given, const CommandContext& context) {
   RunArguments args = given;
   gather_file_lists(args);
   return run_command(args, context);
-}
-
-struct MergeArguments {
-  std::vector<std::string> folders;  // the shards' --out folders
-  std::string out;                   // the report's folder
-};
-
-CLI::App* add_merge_command(CLI::App& app, MergeArguments& args) {
-  CLI::App* merge = app.add_subcommand(
-      "merge",
-      "join the --out folders of the n `--shard i/n` runs of one job into the report (and "
-      "images) one process would have written");
-  merge->add_option("folders", args.folders, "the shards' --out folders")->required();
-  merge->add_option("--out,-o", args.out, "output folder of the report")->required();
-  return merge;
-}
-
-int merge_command(const MergeArguments& args, const CommandContext& context) {
-  const std::vector<std::filesystem::path> folders(args.folders.begin(), args.folders.end());
-  return run_cli(merge_arguments(folders, args.out), context.out, context.err, context.interrupted);
 }
 
 struct PlotArguments {
