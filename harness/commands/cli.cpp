@@ -400,23 +400,6 @@ int verify_command(const RunArguments& given, const CommandContext& context) {
   return run_command(args, context);
 }
 
-struct PlotArguments {
-  std::string report;
-  std::optional<std::string> out_dir;
-};
-
-CLI::App* add_plot_command(CLI::App& app, PlotArguments& args) {
-  CLI::App* plot = app.add_subcommand(
-      "plot", "figures of a report and an HTML page (index.html) with them and its runs");
-  plot->add_option("report", args.report, "a report.json written by pcbench")->required();
-  plot->add_option("--out,-o", args.out_dir, "folder for the figures (default: plots/ beside it)");
-  return plot;
-}
-
-int plot_command(const PlotArguments& args, const CommandContext& context) {
-  return run_plot_command(args.report, args.out_dir, context.out, context.err);
-}
-
 // A subcommand, and what runs it on the arguments its parsing filled in.
 struct Command {
   CLI::App* app;
