@@ -11,8 +11,8 @@ namespace pcbench::fuzz {
 Outcome check_suite_text(std::string_view text) {
   try {
     const SuiteRequest suite = parse_suite(std::string(text), "fuzz.json");
-    // The suite's defaults as `pcbench run SUITE` applies them (harness/commands/cli.cpp), with no
-    // command-line overrides.
+    // The suite's defaults as `pcbench run SUITE` applies them (harness/commands/run_command.cpp),
+    // with no command-line overrides.
     BudgetDefaults budget;
     budget.samples = suite.samples;
     if (suite.replicates) budget.replicates = *suite.replicates;

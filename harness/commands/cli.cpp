@@ -1,650 +1,63 @@
 #include "harness/commands/cli.h"
 
 #include <fmt/format.h>
-#include <oneapi/tbb/global_control.h>
-#include <oneapi/tbb/info.h>
 
+// GCC 12 sees a possible null dereference in CLI11's Option::results<std::vector<std::string>>
+// (std::vector::emplace_back inlined into it), a false positive of -Wnull-dereference at -O3 in
+// a system header.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wnull-dereference"
 #include <CLI/CLI.hpp>
+#pragma GCC diagnostic pop
 #include <algorithm>
-#include <filesystem>
-#include <limits>
-#include <optional>
+#include <functional>
 #include <ostream>
 
 #include "base/comma_list.h"
 #include "base/errors.h"
-#include "harness/commands/calibration.h"
+#include "harness/commands/calibrate_command.h"
+#include "harness/commands/command_options.h"
 #include "harness/commands/compare_command.h"
-#include "harness/commands/external_verify.h"
-#include "harness/commands/image_set_verify.h"
 #include "harness/commands/list_command.h"
+#include "harness/commands/merge_command.h"
 #include "harness/commands/plot_command.h"
 #include "harness/commands/reference_command.h"
-#include "harness/commands/tile_calibration.h"
-#include "harness/plan/plan.h"
-#include "harness/plan/suite_file.h"
-#include "harness/run/replay.h"
-#include "harness/run/replicate_farm.h"
+#include "harness/commands/replay_command.h"
+#include "harness/commands/run_command.h"
+#include "harness/commands/verify_command.h"
 #include "harness/session/session.h"
-#include "harness/session/shard.h"
-#include "harness/verify/block_pyramid.h"
 #include "results/context.h"
 
 namespace pcbench {
 namespace {
 
-struct RunArguments {
-  std::string suite_path;
-  std::vector<std::string> estimators;
-  std::vector<std::string> integrands;
-  std::vector<std::string> params;  // key=value
-  std::uint64_t samples = 0;
-  double seconds = 0.0;
-  std::uint32_t replicates = 0;
-  std::uint64_t seed = kDefaultSeed;
-  unsigned threads = 0;
-  std::string out_dir;
-  bool quiet = false;
-  bool interleave = false;
-  bool paired = false;
-  bool strategy_images = false;
-  bool replicate_images = false;
-  bool resume = false;
-  std::string shard;  // --shard i/n
-  std::string reference_cache = kDefaultReferenceCache;
-  std::vector<std::string> require_mdb;  // --require-mdb SCALE=FRACTION, repeatable
-  // verify only
-  bool verify = false;
-  double alpha = kDefaultAlpha;
-  bool exact = false;
-  ExternalRequest external;
-  ImageSetRequest images;  // --images SET (its --against is external.against)
-  // --images and --against as given: each takes several words (the files of an unquoted glob
-  // that the shell expanded), joined into one comma-separated list by gather_file_lists.
-  std::vector<std::string> image_files, against_files;
-  std::string crop;  // --crop X,Y,W,H
+// A subcommand, and what runs it on the arguments its parsing filled in.
+struct Command {
+  CLI::App* app;
+  std::function<int(const CommandContext&)> run;
 };
 
-// Numbers and choices never contain commas, so for them a comma separates grid values.
-bool takes_comma_lists(const std::string& key, const ResolvedGrid& grid) {
-  const auto typed_in = [&](const std::vector<ParamSpec>& specs) {
-    for (const ParamSpec& spec : specs) {
-      if (spec.name == key) return spec.type != ParamType::kText;
-    }
-    return false;
-  };
-  for (const EstimatorEntry* estimator : grid.estimators) {
-    if (typed_in(estimator->params) || typed_in(estimator->scene_params)) return true;
-  }
-  for (const IntegrandEntry* integrand : grid.integrands) {
-    if (typed_in(integrand->params)) return true;
-  }
-  return false;
+template <class Arguments>
+Command command(CLI::App* app, const Arguments& args,
+                int (*run)(const Arguments&, const CommandContext&)) {
+  return {app, [&args, run](const CommandContext& context) { return run(args, context); }};
 }
 
-// Splits `--param` flags into key -> values. Only numeric and choice keys are split on commas
-// (a grid), so an expression such as f=min(x0,y0) stays whole.
-std::map<std::string, std::vector<std::string>> params_from_flags(const RunArguments& args,
-                                                                  const ResolvedGrid& grid) {
-  std::map<std::string, std::vector<std::string>> params;
-  for (const std::string& param : args.params) {
-    const auto equals = param.find('=');
-    if (equals == std::string::npos || equals == 0) {
-      throw InputError(fmt::format("command line: --param '{}': expected key=value", param));
-    }
-    const std::string key = param.substr(0, equals);
-    const std::string value = param.substr(equals + 1);
-    if (params.count(key)) {
-      throw InputError(fmt::format("command line: --param '{}' is given twice", key));
-    }
-    std::vector<std::string>& values = params[key];
-    if (!takes_comma_lists(key, grid)) {
-      values.push_back(value);
-      continue;
-    }
-    values = split_commas(value);
+// CLI11 would say "A subcommand is required" without naming the subcommands: the message when
+// the first argument is neither an option nor a subcommand, or there is none.
+std::string subcommand_error(const CLI::App& app, const std::vector<std::string>& args) {
+  std::vector<std::string> commands;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    commands.push_back(sub->get_name());
   }
-  return params;
-}
-
-// `verify -e CONTROL` without an integrand: each negative control on its declared integrand
-// and budget, with the honest partners it is compared with (the command line's --param and
-// budget flags still apply).
-std::vector<ResolvedGrid> declared_grids(const RunArguments& args) {
-  const ResolvedGrid controls =
-      resolve_names({.estimators = args.estimators, .where = "command line"});
-  std::vector<ResolvedGrid> grids;
-  for (const EstimatorEntry* control : controls.estimators) {
-    if (!control->declared) {
-      throw InputError(fmt::format(
-          "command line: --integrand is required for '{}' (only a negative control declares its "
-          "own integrand)",
-          control->name));
-    }
-    const DeclaredWorkload& workload = *control->declared;
-    const ResolvedGrid partners = resolve_names(
-        {.estimators = workload.partners,
-         .integrands = {workload.integrand},
-         .samples = workload.samples,
-         .replicates = workload.replicates,
-         .where = fmt::format("command line (declared workload of {})", control->name)});
-    // The control (resolved above), then its partners.
-    ResolvedGrid grid{
-        .estimators = {control}, .integrands = partners.integrands, .request = partners.request};
-    grid.request.estimators = {control->name};
-    for (std::size_t i = 0; i < partners.estimators.size(); ++i) {
-      grid.estimators.push_back(partners.estimators[i]);
-      grid.request.estimators.push_back(partners.request.estimators[i]);
-    }
-    grid.request.params = params_from_flags(args, grid);
-    for (const auto& [key, value] : workload.integrand_params) {
-      if (!grid.request.params.count(key)) grid.request.params[key] = {value};
-    }
-    grids.push_back(std::move(grid));
+  if (!args.empty() && (args[0].rfind('-', 0) == 0 ||
+                        std::find(commands.begin(), commands.end(), args[0]) != commands.end())) {
+    return "";
   }
-  return grids;
-}
-
-// The command line's estimators, integrands and --param flags as one grid, its names resolved.
-ResolvedGrid command_line_grid(const RunArguments& args) {
-  ResolvedGrid grid = resolve_names(
-      {.estimators = args.estimators, .integrands = args.integrands, .where = "command line"});
-  grid.request.params = params_from_flags(args, grid);
-  return grid;
-}
-
-// The one-run form as grids: `--param M=1,4,16` gives three runs.
-std::vector<ResolvedGrid> grids_from_flags(const RunArguments& args) {
-  if (args.estimators.empty())
-    throw InputError("command line: --estimator is required (or give a suite file)");
-  if (args.integrands.empty()) {
-    if (args.verify) return declared_grids(args);
-    throw InputError("command line: --integrand is required (or give a suite file)");
-  }
-  return {command_line_grid(args)};
-}
-
-// Checks --out without creating anything.
-void check_out_dir(const std::string& out_dir, bool given) {
-  if (given && out_dir.empty()) throw InputError("command line: --out is empty; give a folder");
-  if (out_dir.empty()) return;
-  if (std::filesystem::exists(out_dir) && !std::filesystem::is_directory(out_dir)) {
-    throw InputError(fmt::format("command line: --out '{}' exists and is not a folder", out_dir));
-  }
-}
-
-// Checks --out and creates the folder now, so that a report that cannot be written fails before
-// any run, not after. (The input is valid by then: creating it writes nothing half-done.)
-void prepare_out_dir(const std::string& out_dir, bool given) {
-  check_out_dir(out_dir, given);
-  if (out_dir.empty()) return;
-  std::error_code error;
-  std::filesystem::create_directories(out_dir, error);
-  if (error) {
-    throw InputError(
-        fmt::format("command line: --out '{}' cannot be created: {}", out_dir, error.message()));
-  }
-}
-
-// --threads, or all cores.
-unsigned thread_count(const RunArguments& args) {
-  return args.threads > 0 ? args.threads : static_cast<unsigned>(tbb::info::default_concurrency());
-}
-
-// --images and --against as the one set each names: several words (a glob the shell expanded)
-// become a comma-separated list. --against with --estimates takes one file.
-void gather_file_lists(RunArguments& args) {
-  args.images.images = join_names(args.image_files, ",");
-  if (args.against_files.empty()) return;
-  if (args.against_files.size() > 1 && args.image_files.empty()) {
-    throw InputError(fmt::format(
-        "command line: --against takes one file of estimates, not {} ({}); several files are "
-        "an image set, which goes with --images",
-        args.against_files.size(), join_names(args.against_files, " ")));
-  }
-  args.external.against = join_names(args.against_files, ",");
-}
-
-// `base` with the command line's --require-mdb on top.
-ScaleRequirements with_requirements(ScaleRequirements base, const RunArguments& args) {
-  for (const std::string& assignment : args.require_mdb) {
-    base.set(assignment, "command line: --require-mdb");
-  }
-  return base;
-}
-
-// Threads, output, argv and the interrupt flag, as every command that writes a report uses them.
-SessionOptions session_options(const RunArguments& args, const std::vector<std::string>& argv,
-                               const std::atomic<bool>* interrupted) {
-  SessionOptions session;
-  session.seed = args.seed;
-  session.threads = thread_count(args);
-  session.quiet = args.quiet;
-  session.argv = argv;
-  session.interrupted = interrupted;
-  session.alpha = args.alpha;
-  session.escalate = args.verify;
-  session.interleave = args.interleave;
-  session.reference_cache = args.reference_cache;
-  session.strategy_images = args.strategy_images;
-  session.replicate_images = args.replicate_images;
-  if (!args.out_dir.empty()) session.out_dir = args.out_dir;
-  session.scale_requirements = with_requirements(session.scale_requirements, args);
-  return session;
-}
-
-int run_command(const RunArguments& args, const CLI::App& run_app,
-                const std::vector<std::string>& argv, std::ostream& out, std::ostream& err,
-                const std::atomic<bool>* interrupted) {
-  if (args.resume && (args.exact || !args.external.estimates.empty())) {
-    throw InputError(
-        "command line: --resume continues an interrupted run or verify of a suite or selection; "
-        "it takes no --exact or --estimates (they are not saved as they go)");
-  }
-  // Other ranks of an MPI job take no part in verifying files (harness/run/replicate_farm.h).
-  if (this_rank() != 0 && (!args.images.images.empty() || !args.external.estimates.empty())) {
-    return kExitOk;
-  }
-  if (!args.images.images.empty()) {
-    const bool selection = !args.estimators.empty() || !args.integrands.empty() ||
-                           !args.params.empty() || !args.suite_path.empty() || args.exact ||
-                           !args.external.estimates.empty() || args.external.reference ||
-                           args.external.run_id;
-    if (selection || args.resume) {
-      throw InputError(
-          "command line: --images verifies a set of image files; it takes no suite, --estimator, "
-          "--integrand, --param, --exact, --estimates, --reference, --run-id or --resume");
-    }
-    ImageSetRequest request = args.images;
-    request.against = args.external.against;
-    if (!args.crop.empty()) request.read.crop = parse_crop(args.crop);
-    // Only checked: the input files are read after this, and bad input must leave no folder.
-    // The folder is made when the report and images are written (write_file_atomically).
-    check_out_dir(args.out_dir, run_app.count("--out") > 0);
-    return run_image_set_verification(request, session_options(args, argv, interrupted), out, err);
-  }
-  const bool image_options =
-      args.images.reference_image || args.images.reference_stderr || args.images.constant ||
-      !args.crop.empty() || args.images.read.channels != ImageReadOptions{}.channels ||
-      args.images.tile != ImageSetRequest{}.tile || args.images.expect != ImageSetRequest{}.expect;
-  if (image_options) {
-    throw InputError(
-        "command line: --reference-image, --reference-stderr, --constant, --channels, --crop, "
-        "--tile and --expect go with --images SET");
-  }
-  if (!args.external.estimates.empty()) {
-    const bool selection = !args.estimators.empty() || !args.integrands.empty() ||
-                           !args.params.empty() || !args.suite_path.empty() || args.exact;
-    if (selection) {
-      throw InputError(
-          "command line: --estimates verifies a file of estimates; it takes no suite, "
-          "--estimator, --integrand, --param or --exact");
-    }
-    check_out_dir(args.out_dir, run_app.count("--out") > 0);  // as for --images above
-    return run_external_verification(args.external, session_options(args, argv, interrupted), out,
-                                     err);
-  }
-  if (args.resume && run_app.count("--out") == 0) {
-    throw InputError(
-        "command line: --resume needs --out DIR: the folder of the interrupted session (its "
-        "report and checkpoint/)");
-  }
-  if (args.external.reference || args.external.against || args.external.run_id) {
-    throw InputError("command line: --reference, --against and --run-id go with --estimates FILE");
-  }
-  // --param goes with either: with a suite file it sets the parameter in every row.
-  const bool one_run = !args.estimators.empty() || !args.integrands.empty();
-  if (one_run && !args.suite_path.empty()) {
-    throw InputError("command line: give a suite file or --estimator/--integrand, not both");
-  }
-  if (!one_run && args.suite_path.empty()) {
-    throw InputError("command line: give a suite file or --estimator and --integrand");
-  }
-
-  std::vector<ResolvedGrid> grids;
-  BudgetDefaults budget;
-  SessionOptions session = session_options(args, argv, interrupted);
-  bool paired = args.paired;
-  if (!args.suite_path.empty()) {
-    SuiteRequest suite = load_suite(args.suite_path);
-    for (GridRequest& grid : suite.grids) {
-      ResolvedGrid resolved = resolve_names(std::move(grid));
-      // A command-line --param replaces that parameter's values in every row (the full-size
-      // form of a CI suite: `-p resolution=128`).
-      for (auto& [key, values] : params_from_flags(args, resolved)) {
-        resolved.request.params[key] = std::move(values);
-      }
-      grids.push_back(std::move(resolved));
-    }
-    session.suite_name = suite.name;
-    budget.samples = suite.samples;
-    if (suite.replicates) budget.replicates = *suite.replicates;
-    budget.seconds = suite.seconds;
-    if (suite.seed && run_app.count("--seed") == 0) session.seed = *suite.seed;
-    session.compare_pairwise = suite.compare_pairwise;
-    session.interleave = session.interleave || suite.interleave;
-    paired = paired || suite.paired;
-    session.strategy_images = session.strategy_images || suite.strategy_images;
-    session.scale_requirements = with_requirements(suite.scale_requirements, args);
-  } else {
-    grids = grids_from_flags(args);
-  }
-  session.scale_requirements.check_blocks(
-      PyramidOptions{}.tile, args.suite_path.empty() ? "command line: --require-mdb"
-                                                     : args.suite_path + " or --require-mdb");
-  // Options given on the command line override the suite's defaults and its rows.
-  if (run_app.count("--samples")) budget.forced_samples = args.samples;
-  if (run_app.count("--seconds")) {
-    if (run_app.count("--samples")) {
-      throw InputError("command line: give --samples or --seconds, not both");
-    }
-    budget.forced_seconds = args.seconds;
-  }
-  if (run_app.count("--replicates")) budget.forced_replicates = args.replicates;
-
-  std::optional<Shard> shard;
-  if (run_app.count("--shard")) {
-    shard = parse_shard(args.shard);
-    if (run_app.count("--out") == 0 || args.exact) {
-      throw InputError(
-          "command line: --shard needs --out DIR (the folder `pcbench merge` reads) and takes no "
-          "--exact");
-    }
-  }
-  std::vector<RunPlan> plans = plan_runs(grids, budget);
-  if (paired) pair_scene_streams(plans);
-  if (this_rank() != 0) {
-    // Another rank of an MPI job: only its share of rank 0's runs (--exact runs on rank 0).
-    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
-    return args.exact ? kExitOk : serve_replicates(plans, interrupted);
-  }
-  session.farm = replicate_farm(plans);
-  // Checked before anything is written: a journal of another seed or suite is bad input.
-  if (args.resume) {
-    session.resume =
-        std::make_shared<RunStore>(RunStore::resume(args.out_dir, session.seed, plans));
-  }
-  prepare_out_dir(args.out_dir, run_app.count("--out") > 0);
-
-  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
-  if (args.exact) return run_exact_session(plans, session, out, err);
-  if (shard) {
-    if (!session.resume) {
-      session.resume = std::make_shared<RunStore>(
-          RunStore::start(args.out_dir, session.seed, session.suite_name, plans, err));
-    }
-    return run_shard(plans, *shard, session, args.out_dir,
-                     shared_arguments({argv.begin() + 1, argv.end()}), out, err);
-  }
-  return run_session(plans, session, out, err);
-}
-
-// A family-wise alpha: strictly between 0 and 1.
-CLI::Validator alpha_check() {
-  return CLI::Validator(
-      [](std::string& text) {
-        double a = 0.0;
-        std::size_t used = 0;
-        try {
-          a = std::stod(text, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used != text.size() || used == 0)
-          return std::string("alpha must be a number in (0, 1)");
-        return a > 0.0 && a < 1.0 ? std::string() : std::string("alpha must be in (0, 1)");
-      },
-      "in (0, 1)");
-}
-
-// Seeds are written to reports as JSON integers, which readers may hold in an int64.
-CLI::Option* add_seed_option(CLI::App* app, RunArguments& args, const char* description) {
-  return app->add_option("--seed,-s", args.seed, description)
-      ->check(CLI::Range(std::uint64_t{0},
-                         static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
-}
-
-void add_seed_and_threads_options(CLI::App* app, RunArguments& args) {
-  add_seed_option(app, args, "seed (default 1)");
-  app->add_option("--threads,-t", args.threads, "worker threads (default: all cores)")
-      ->check(CLI::Range(1u, 1024u));
-}
-
-void add_reference_cache_option(CLI::App* app, RunArguments& args) {
-  app->add_option("--reference-cache", args.reference_cache,
-                  "folder of converged scene images (default results/references)");
-}
-
-// The selection and budget options `run` and `verify` share.
-void add_run_options(CLI::App* app, RunArguments& args) {
-  app->add_option("suite", args.suite_path, "suite file (JSON)");
-  app->add_option("--estimator,-e", args.estimators, "estimator(s); a comma list is a grid")
-      ->delimiter(',');
-  app->add_option("--integrand,-i", args.integrands, "integrand(s); a comma list is a grid")
-      ->delimiter(',');
-  app->add_option("--param,-p", args.params,
-                  "key=value, repeatable; numeric and choice values may be comma lists (a grid)");
-  app->add_option("--samples,-n", args.samples,
-                  "camera samples per replicate (default 100000 for an analytic integrand, 16 spp "
-                  "for a scene, whose samples are per pixel)")
-      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
-  app->add_option("--seconds", args.seconds,
-                  "equal time: CPU seconds per replicate; a pilot picks the sample count")
-      ->check(CLI::Range(kMinSecondsPerReplicate, kMaxSecondsPerReplicate));
-  app->add_option("--replicates,-r", args.replicates, "independent replicates (default 32)")
-      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
-  add_seed_and_threads_options(app, args);
-  app->add_option("--out,-o", args.out_dir,
-                  "output folder (default results/runs/<date-time>/, linked as results/latest)");
-  app->add_flag("--quiet,-q", args.quiet, "no progress and no summary table");
-  app->add_flag("--interleave", args.interleave,
-                "runs on one integrand take their replicates in turn; prints their efficiency "
-                "ratios with intervals");
-  app->add_flag("--paired", args.paired,
-                "scene runs share their random streams between estimators (the same camera paths "
-                "and light pools per replicate) and their block pyramids test the replicate "
-                "differences (paired t): more power where the estimators' images correlate");
-  app->add_flag("--strategy-images", args.strategy_images,
-                "scene runs also write images/<id>_strategies.exr: the mean image of each (s, t) "
-                "connection strategy, one layer each, and their shares of the image");
-  app->add_flag("--replicate-images", args.replicate_images,
-                "scene runs also write each replicate image, images/<id>_rep<k>.exr (k from 0): "
-                "what `verify --images` and other tools test");
-  app->add_flag(
-      "--resume", args.resume,
-      "with --out DIR of an interrupted session: restore its finished runs, run the rest");
-  app->add_option("--shard", args.shard,
-                  "i/n: run share i (0 to n-1) of n of the planned runs into --out DIR's journal, "
-                  "no report; `pcbench merge` the n folders for it");
-  app->add_option("--require-mdb", args.require_mdb,
-                  "SCALE=FRACTION, repeatable: the largest detectable bias a scene comparison must "
-                  "reach at a scale of its block pyramid, relative to a bright block's mean; "
-                  "SCALE is tile, image or a block edge in pixels (default tile=0.05, "
-                  "image=0.01; SCALE=none drops one)")
-      ->take_all();
-  add_reference_cache_option(app, args);
-}
-
-// `pcbench reference`: scenes and the estimator and budget that render their converged images.
-void add_reference_options(CLI::App* app, RunArguments& args) {
-  app->add_option("--integrand,-i", args.integrands, "scene(s); a comma list renders each")
-      ->required()
-      ->delimiter(',');
-  app->add_option("--estimator,-e", args.estimators, "estimator (default plain: BDPT)")
-      ->delimiter(',');
-  app->add_option("--param,-p", args.params, "key=value, repeatable (resolution, max_length, …)");
-  app->add_option("--samples,-n", args.samples, "samples per pixel per replicate (default 256)")
-      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
-  app->add_option("--replicates,-r", args.replicates,
-                  "replicates, for the image's standard error (default 8)")
-      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
-  add_seed_and_threads_options(app, args);
-  add_reference_cache_option(app, args);
-}
-
-constexpr std::uint64_t kDefaultReferenceSamples = 256;
-constexpr std::uint32_t kDefaultReferenceReplicates = 8;
-
-int reference_command_line(RunArguments args, const std::vector<std::string>& argv,
-                           std::ostream& out, std::ostream& err,
-                           const std::atomic<bool>* interrupted) {
-  if (args.estimators.empty()) args.estimators = {"plain"};
-  const ResolvedGrid grid = command_line_grid(args);
-  BudgetDefaults budget;
-  budget.forced_samples = args.samples > 0 ? args.samples : kDefaultReferenceSamples;
-  budget.forced_replicates = args.replicates > 0 ? args.replicates : kDefaultReferenceReplicates;
-  const std::vector<RunPlan> plans = plan_runs({grid}, budget);
-  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, thread_count(args));
-  if (this_rank() != 0) return serve_replicates(plans, interrupted);
-  return run_reference_command(plans,
-                               {.runner = {.seed = args.seed, .interrupted = interrupted},
-                                .cache = args.reference_cache,
-                                .argv = argv,
-                                .farm = replicate_farm(plans)},
-                               out, err);
-}
-
-// `pcbench replay`: one run's selection and budget, and the sample to evaluate.
-struct ReplayRequest {
-  std::uint32_t replicate = 0;
-  std::uint64_t sample = 0;
-  std::optional<std::string> run_id;
-  bool json = false;
-};
-
-void add_replay_options(CLI::App* app, RunArguments& args, ReplayRequest& request) {
-  app->add_option("--estimator,-e", args.estimators, "the run's estimator")->required();
-  app->add_option("--integrand,-i", args.integrands, "the run's integrand")->required();
-  app->add_option("--param,-p", args.params, "key=value, repeatable: the run's parameters");
-  app->add_option("--samples,-n", args.samples, "the run's camera samples per replicate")
-      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
-  app->add_option("--replicates,-r", args.replicates, "the run's replicates")
-      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
-  add_seed_option(app, args, "the run's seed (default 1)");
-  app->add_option("--replicate", request.replicate, "the replicate (0-based)")->required();
-  app->add_option("--sample", request.sample, "the camera sample within it (0-based)")->required();
-  app->add_option("--run-id", request.run_id,
-                  "refuse unless the options rebuild this run id (16 hex digits)");
-  app->add_flag("--json", request.json, "print as JSON (non-finite numbers as \"nan\", \"inf\")");
-}
-
-int replay_command_line(const RunArguments& args, const ReplayRequest& request, const CLI::App& app,
-                        std::ostream& out) {
-  const ResolvedGrid grid = command_line_grid(args);
-  BudgetDefaults budget;
-  if (app.count("--samples")) budget.forced_samples = args.samples;
-  if (app.count("--replicates")) budget.forced_replicates = args.replicates;
-  const std::vector<RunPlan> plans = plan_runs({grid}, budget);
-  if (plans.size() != 1) {
-    throw InputError(
-        fmt::format("command line: replay takes one run; these options plan {}", plans.size()));
-  }
-  return run_replay(plans[0], args.seed, request.replicate, request.sample, request.run_id,
-                    request.json, out);
-}
-
-// `pcbench calibrate`: of the run test on an analytic integrand (harness/commands/calibration.h),
-// of the block pyramid on scenes (harness/commands/tile_calibration.h). Unset options take each
-// one's defaults;
-// --param, the seed, threads and output go to the RunArguments that `run` uses.
-struct CalibrateArguments {
-  std::vector<std::string> estimators;
-  std::vector<std::string> integrands;
-  std::uint64_t samples = 0;
-  std::uint32_t replicates = 0;
-  std::uint32_t seeds = 0;
-};
-
-void add_calibrate_options(CLI::App* app, CalibrateArguments& calibration, RunArguments& args) {
-  app->add_option("--estimator,-e", calibration.estimators,
-                  "unbiased estimators to calibrate (default plain,vc-all,lvc,pcbpt; on scenes "
-                  "pt,plain)")
-      ->delimiter(',');
-  app->add_option("--integrand,-i", calibration.integrands,
-                  "integrand with an exact reference (default genz-gaussian), or scenes: the block "
-                  "pyramid against the exact image (furnace) and between estimators (others)")
-      ->delimiter(',');
-  app->add_option("--param,-p", args.params,
-                  "key=value for the estimators and the integrand (resolution, ...), repeatable");
-  app->add_option("--samples,-n", calibration.samples,
-                  "samples per replicate (default 1000; on scenes samples per pixel, 4)")
-      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
-  app->add_option("--replicates,-r", calibration.replicates,
-                  "replicates per run (default 16; on scenes 8 images)")
-      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
-  app->add_option("--seeds", calibration.seeds,
-                  "seeds (runs) per estimator (default 200; on scenes 1000)")
-      ->check(CLI::Range(std::uint32_t{20}, std::uint32_t{1000000}));
-  add_seed_and_threads_options(app, args);
-  app->add_option("--out,-o", args.out_dir, "output folder (default results/runs/<date-time>/)");
-  app->add_flag("--quiet,-q", args.quiet, "no table");
-  app->add_flag("--paired", args.paired,
-                "scenes: runs share their random streams and pairs are tested on replicate "
-                "differences (the paired design of run --paired)");
-}
-
-// The calibration's parameters, parsed as `run` parses them but one value per key: a
-// calibration is of one configuration (a grid would be several calibrations).
-ParamText calibrate_params(const RunArguments& args, const std::vector<std::string>& estimators,
-                           const std::vector<std::string>& integrands) {
-  const ResolvedGrid grid =
-      resolve_names({.estimators = estimators, .integrands = integrands, .where = "command line"});
-  ParamText params;
-  for (const auto& [key, values] : params_from_flags(args, grid)) {
-    if (values.size() != 1) {
-      throw InputError(fmt::format(
-          "command line: calibrate takes one value per --param; '{}' has {}", key, values.size()));
-    }
-    params[key] = values.front();
-  }
-  return params;
-}
-
-int calibrate_command_line(const CalibrateArguments& calibration, const RunArguments& args,
-                           const CLI::App& app, const std::vector<std::string>& argv,
-                           std::ostream& out, std::ostream& err,
-                           const std::atomic<bool>* interrupted) {
-  const std::size_t scenes = static_cast<std::size_t>(
-      std::count_if(calibration.integrands.begin(), calibration.integrands.end(), is_scene_name));
-  if (scenes > 0 && scenes < calibration.integrands.size()) {
-    throw InputError(
-        "command line: calibrate takes scenes (the block pyramid) or one analytic integrand (the "
-        "run test), not both");
-  }
-  if (scenes == 0 && calibration.integrands.size() > 1) {
-    throw InputError("command line: calibrate takes one analytic integrand");
-  }
-  if (scenes == 0 && args.paired) {
-    throw InputError(
-        "command line: --paired pairs scene runs; calibrate on an analytic integrand takes no "
-        "--paired (give scenes with --integrand)");
-  }
-  const bool given_seed = app.count("--seed") > 0;
-  prepare_out_dir(args.out_dir, app.count("--out") > 0);
-  const SessionOptions session = session_options(args, argv, interrupted);
-  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, session.threads);
-  // What both self-tests take from the command line alike.
-  const auto take_common = [&](auto& options) {
-    if (!calibration.estimators.empty()) options.estimators = calibration.estimators;
-    if (calibration.samples > 0) options.samples = calibration.samples;
-    if (calibration.replicates > 0) options.replicates = calibration.replicates;
-    if (calibration.seeds > 0) options.seeds = calibration.seeds;
-    if (given_seed) options.first_seed = args.seed;
-    options.interrupted = interrupted;
-  };
-  if (scenes > 0) {
-    TileCalibrationOptions options;
-    options.scenes = calibration.integrands;
-    options.paired = args.paired;
-    take_common(options);
-    options.params = calibrate_params(args, options.estimators, options.scenes);
-    return run_tile_calibration(options, session, out, err);
-  }
-  CalibrationOptions options;
-  if (!calibration.integrands.empty()) options.integrand = calibration.integrands.front();
-  take_common(options);
-  options.params = calibrate_params(args, options.estimators, {options.integrand});
-  return run_calibration(options, session, out, err);
+  return fmt::format("pcbench: error: {}; valid subcommands: {} (see pcbench --help)\n",
+                     args.empty() ? std::string("no subcommand given")
+                                  : fmt::format("unknown subcommand '{}'", args[0]),
+                     join_names(commands));
 }
 
 }  // namespace
@@ -656,126 +69,32 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   app.set_version_flag("--version", std::string("pcbench ") + pcbench_version());
   app.require_subcommand(1);
 
-  bool list_json = false;
-  CLI::App* list = app.add_subcommand("list", "estimators, integrands and scenes, with parameters");
-  list->add_flag("--json", list_json, "print as JSON");
+  // Each command's arguments, filled in by the parse; the commands in the order of --help.
+  ListArguments list;
+  RunArguments run;
+  VerifyArguments verify;
+  CalibrateArguments calibrate;
+  CompareArguments compare;
+  ReplayArguments replay;
+  ReferenceArguments reference;
+  MergeArguments merge;
+  PlotArguments plot;
+  const std::vector<Command> commands = {
+      command(add_list_command(app, list), list, list_command),
+      command(add_run_command(app, run), run, run_command),
+      command(add_verify_command(app, verify), verify, verify_command),
+      command(add_calibrate_command(app, calibrate), calibrate, calibrate_command),
+      command(add_compare_command(app, compare), compare, compare_command),
+      command(add_replay_command(app, replay), replay, replay_command),
+      command(add_reference_command(app, reference), reference, reference_command),
+      command(add_merge_command(app, merge), merge, merge_command),
+      command(add_plot_command(app, plot), plot, plot_command),
+  };
 
-  RunArguments run_args;
-  CLI::App* run = app.add_subcommand("run", "run a suite file, or one estimator on one integrand");
-  add_run_options(run, run_args);
-
-  RunArguments verify_args;
-  verify_args.verify = true;
-  CLI::App* verify = app.add_subcommand(
-      "verify",
-      "test E[estimate] = reference as one family (a negative control alone runs on its "
-      "declared integrand)");
-  add_run_options(verify, verify_args);
-  verify->add_option("--alpha", verify_args.alpha, "family-wise false-alarm rate (default 0.01)")
-      ->check(alpha_check());
-  verify->add_flag("--exact", verify_args.exact,
-                   "enumerate the resampling step exactly (M <= 6, K <= 3) instead of sampling");
-  verify->add_option("--estimates", verify_args.external.estimates,
-                     "replicate estimates from any renderer (.csv, .txt, .json or a report)");
-  verify->add_option("--run-id", verify_args.external.run_id,
-                     "the run to take from a pcbench report given to --estimates");
-  verify->add_option("--reference", verify_args.external.reference,
-                     "with --estimates: the value to test against, V or V±U (also V+-U)");
-  verify
-      ->add_option("--against", verify_args.against_files,
-                   "with --estimates: a second estimates file, tested two-sample (Welch); with "
-                   "--images: a second independent image set, tested block by block (as --images)")
-      ->take_all();
-  verify
-      ->add_option("--images", verify_args.image_files,
-                   "replicate images from any renderer (EXR, HDR or PFM), one seed per image: "
-                   "files (several, as an unquoted glob expands), a folder, a quoted glob or a "
-                   "comma-separated list")
-      ->take_all();
-  verify->add_option("--reference-image", verify_args.images.reference_image,
-                     "with --images: a converged reference image");
-  verify->add_option("--reference-stderr", verify_args.images.reference_stderr,
-                     "with --reference-image: its per-pixel standard error image");
-  verify->add_option("--constant", verify_args.images.constant,
-                     "with --images: an exact constant image, V or R,G,B (a furnace)");
-  verify
-      ->add_option("--channels", verify_args.images.read.channels,
-                   "with --images: the three channels to test (default R,G,B)")
-      ->delimiter(',')
-      ->expected(3);
-  verify->add_option("--crop", verify_args.crop, "with --images: the window X,Y,W,H to test");
-  verify->add_option("--tile", verify_args.images.tile,
-                     "with --images: tile edge in pixels (default 8)");
-  verify->add_option("--expect", verify_args.images.expect,
-                     "with --images: consistent (default) or biased (a set with a known bias)");
-
-  CalibrateArguments calibration;
-  RunArguments calibrate_args;
-  CLI::App* calibrate_app = app.add_subcommand(
-      "calibrate",
-      "the verifier's self-test: p-values of unbiased estimators over many seeds are uniform, "
-      "false alarms match alpha, and the power curve follows its prediction (on scenes: of the "
-      "block pyramid, overall and per scale)");
-  add_calibrate_options(calibrate_app, calibration, calibrate_args);
-
-  std::vector<std::string> compare_reports_paths;
-  RunArguments compare_args;
-  CLI::App* compare = app.add_subcommand(
-      "compare", "two-sample tests between the runs with the same id in two reports");
-  compare->add_option("reports", compare_reports_paths, "report A and report B")
-      ->required()
-      ->expected(2);
-  compare->add_option("--alpha", compare_args.alpha, "family-wise false-alarm rate (default 0.01)")
-      ->check(alpha_check());
-  compare->add_option("--out,-o", compare_args.out_dir,
-                      "output folder (default results/runs/<date-time>/)");
-  compare->add_flag("--quiet,-q", compare_args.quiet, "no table");
-
-  RunArguments replay_args;
-  ReplayRequest replay_request;
-  CLI::App* replay = app.add_subcommand(
-      "replay",
-      "re-evaluate one camera sample of a run with its random streams (the command a run with a "
-      "non-finite sample prints)");
-  add_replay_options(replay, replay_args, replay_request);
-
-  RunArguments reference_args;
-  CLI::App* reference = app.add_subcommand(
-      "reference",
-      "render converged images of scenes into the reference cache, for the errors (RMSE, "
-      "relative MSE, equal time) of later scene runs");
-  add_reference_options(reference, reference_args);
-
-  std::vector<std::string> merge_folders;
-  std::string merge_out;
-  CLI::App* merge = app.add_subcommand(
-      "merge",
-      "join the --out folders of the n `--shard i/n` runs of one job into the report (and "
-      "images) one process would have written");
-  merge->add_option("folders", merge_folders, "the shards' --out folders")->required();
-  merge->add_option("--out,-o", merge_out, "output folder of the report")->required();
-
-  std::string plot_report;
-  std::optional<std::string> plot_out;
-  CLI::App* plot = app.add_subcommand(
-      "plot", "figures of a report and an HTML page (index.html) with them and its runs");
-  plot->add_option("report", plot_report, "a report.json written by pcbench")->required();
-  plot->add_option("--out,-o", plot_out, "folder for the figures (default: plots/ beside it)");
-
-  // CLI11 would say "A subcommand is required" without naming the subcommands.
-  std::vector<std::string> commands;
-  for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
-    commands.push_back(sub->get_name());
-  }
-  if (args.empty() || (args[0].rfind('-', 0) != 0 &&
-                       std::find(commands.begin(), commands.end(), args[0]) == commands.end())) {
-    err << fmt::format("pcbench: error: {}; valid subcommands: {} (see pcbench --help)\n",
-                       args.empty() ? std::string("no subcommand given")
-                                    : fmt::format("unknown subcommand '{}'", args[0]),
-                       join_names(commands));
+  if (const std::string error = subcommand_error(app, args); !error.empty()) {
+    err << error;
     return kExitBadInput;
   }
-
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);  // CLI11 takes a vector of arguments in reverse order
@@ -786,38 +105,17 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
 
   std::vector<std::string> argv = {"pcbench"};
   argv.insert(argv.end(), args.begin(), args.end());
-  try {
-    if (list->parsed()) {
-      print_registry(out, list_json);
-      return kExitOk;
+  for (const Command& parsed : commands) {
+    if (!parsed.app->parsed()) continue;
+    try {
+      return parsed.run(
+          {.app = *parsed.app, .argv = argv, .out = out, .err = err, .interrupted = interrupted});
+    } catch (const InputError& e) {
+      err << "pcbench: error: " << e.what() << "\n";
+      return kExitBadInput;
     }
-    if (verify->parsed()) {
-      gather_file_lists(verify_args);
-      return run_command(verify_args, *verify, argv, out, err, interrupted);
-    }
-    if (calibrate_app->parsed()) {
-      return calibrate_command_line(calibration, calibrate_args, *calibrate_app, argv, out, err,
-                                    interrupted);
-    }
-    if (plot->parsed()) return run_plot_command(plot_report, plot_out, out, err);
-    if (compare->parsed()) {
-      prepare_out_dir(compare_args.out_dir, compare->count("--out") > 0);
-      return run_compare_command(compare_reports_paths[0], compare_reports_paths[1],
-                                 session_options(compare_args, argv, interrupted), out, err);
-    }
-    if (replay->parsed()) return replay_command_line(replay_args, replay_request, *replay, out);
-    if (merge->parsed()) {
-      const std::vector<std::filesystem::path> folders(merge_folders.begin(), merge_folders.end());
-      return run_cli(merge_arguments(folders, merge_out), out, err, interrupted);
-    }
-    if (reference->parsed()) {
-      return reference_command_line(reference_args, argv, out, err, interrupted);
-    }
-    return run_command(run_args, *run, argv, out, err, interrupted);
-  } catch (const InputError& e) {
-    err << "pcbench: error: " << e.what() << "\n";
-    return kExitBadInput;
   }
+  return kExitBadInput;  // not reached: the parse requires one subcommand
 }
 
 }  // namespace pcbench

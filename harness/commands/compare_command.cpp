@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <CLI/CLI.hpp>
 #include <ostream>
 
 #include "harness/session/publish.h"
@@ -38,6 +39,24 @@ int run_compare_command(const std::string& report_a, const std::string& report_b
   sections.comparisons = comparisons_json(outcome.comparisons);
   if (!publish_report(options, sections, out, err)) return kExitRunFailed;
   return outcome.as_expected() ? kExitOk : kExitVerdictDiffers;
+}
+
+CLI::App* add_compare_command(CLI::App& app, CompareArguments& args) {
+  CLI::App* compare = app.add_subcommand(
+      "compare", "two-sample tests between the runs with the same id in two reports");
+  compare->add_option("reports", args.reports, "report A and report B")->required()->expected(2);
+  compare->add_option("--alpha", args.alpha, "family-wise false-alarm rate (default 0.01)")
+      ->check(alpha_check());
+  compare->add_option("--out,-o", args.out_dir,
+                      "output folder (default results/runs/<date-time>/)");
+  compare->add_flag("--quiet,-q", args.quiet, "no table");
+  return compare;
+}
+
+int compare_command(const CompareArguments& args, const CommandContext& context) {
+  prepare_out_dir(args.out_dir, context.app.count("--out") > 0);
+  return run_compare_command(args.reports[0], args.reports[1], session_options(args, context),
+                             context.out, context.err);
 }
 
 }  // namespace pcbench

@@ -143,8 +143,10 @@ CropWindow parse_crop(const std::string& text) {
           static_cast<std::uint32_t>(v[2]), static_cast<std::uint32_t>(v[3])};
 }
 
-int run_image_set_verification(const ImageSetRequest& request, const SessionOptions& options,
-                               std::ostream& out, std::ostream& err) {
+namespace {
+
+// The request's own checks, before any file is read.
+void check_request(const ImageSetRequest& request, const SessionOptions& options) {
   const int references = static_cast<int>(request.against.has_value()) +
                          static_cast<int>(request.reference_image.has_value()) +
                          static_cast<int>(request.constant.has_value());
@@ -162,120 +164,168 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
     throw InputError(
         fmt::format("command line: --expect '{}': consistent or biased", request.expect));
   }
+}
 
-  // Everything is read and checked before anything is written.
-  const ImageSet set = read_image_set(request.images, "--images", request.read);
-  const Image& like = set.images.front();
-  std::optional<ImageSet> other;
+// The set and what it is tested against, read and checked.
+struct ImageSetInput {
+  ImageSet set;
+  std::optional<ImageSet> other;  // --against
   std::optional<Image> reference, reference_stderr;
   std::string reference_pixel_type = "float";
   Against against;
-  double quantisation = set.quantisation_bias;
-  if (request.against) {
-    other = read_image_set(*request.against, "--against", request.read);
-    check_same_size(other->images.front(), like, "the --against set");
-    quantisation = std::max(quantisation, other->quantisation_bias);
-    against = {
-        "images", *request.against, {{"kind", "images"}, {"files", files_json(*other)}}, "against"};
-  } else if (request.reference_image) {
-    ImageFileFacts facts;
-    reference = read_image_file(*request.reference_image, request.read, &facts);
-    check_same_size(*reference, like, *request.reference_image);
-    quantisation = std::max(quantisation, worst_quantisation_bias(facts.pixel_type));
-    reference_pixel_type = facts.pixel_type;
-    against = {"reference",
-               *request.reference_image,
-               {{"kind", "reference"}, {"file", *request.reference_image}},
-               "reference"};
-    if (request.reference_stderr) {
-      reference_stderr = read_image_file(*request.reference_stderr, request.read);
-      check_same_size(*reference_stderr, like, *request.reference_stderr);
-      against.json["stderr_file"] = *request.reference_stderr;
-    } else {
-      against.json["stderr_file"] = nullptr;
-    }
-  } else {
-    reference = constant_image(like, *request.constant);
-    against = {"constant",
-               "constant " + *request.constant,
-               {{"kind", "constant"}, {"value", parse_numbers(*request.constant, "--constant")}},
-               "exact"};
-  }
+  double quantisation = 0.0;  // the worst-case quantisation bias of the files' pixel formats
+};
 
-  // The family: the comparison and its self-checks, one per scale.
+// --reference-image and its --reference-stderr into `input`.
+void read_reference(const ImageSetRequest& request, ImageSetInput& input) {
+  const Image& like = input.set.images.front();
+  ImageFileFacts facts;
+  input.reference = read_image_file(*request.reference_image, request.read, &facts);
+  check_same_size(*input.reference, like, *request.reference_image);
+  input.quantisation = std::max(input.quantisation, worst_quantisation_bias(facts.pixel_type));
+  input.reference_pixel_type = facts.pixel_type;
+  input.against = {"reference",
+                   *request.reference_image,
+                   {{"kind", "reference"}, {"file", *request.reference_image}},
+                   "reference"};
+  if (request.reference_stderr) {
+    input.reference_stderr = read_image_file(*request.reference_stderr, request.read);
+    check_same_size(*input.reference_stderr, like, *request.reference_stderr);
+    input.against.json["stderr_file"] = *request.reference_stderr;
+  } else {
+    input.against.json["stderr_file"] = nullptr;
+  }
+}
+
+ImageSetInput read_input(const ImageSetRequest& request) {
+  ImageSetInput input;
+  input.set = read_image_set(request.images, "--images", request.read);
+  input.quantisation = input.set.quantisation_bias;
+  const Image& like = input.set.images.front();
+  if (request.against) {
+    input.other = read_image_set(*request.against, "--against", request.read);
+    check_same_size(input.other->images.front(), like, "the --against set");
+    input.quantisation = std::max(input.quantisation, input.other->quantisation_bias);
+    input.against = {"images",
+                     *request.against,
+                     {{"kind", "images"}, {"files", files_json(*input.other)}},
+                     "against"};
+  } else if (request.reference_image) {
+    read_reference(request, input);
+  } else {
+    input.reference = constant_image(like, *request.constant);
+    input.against = {
+        "constant",
+        "constant " + *request.constant,
+        {{"kind", "constant"}, {"value", parse_numbers(*request.constant, "--constant")}},
+        "exact"};
+  }
+  return input;
+}
+
+// The family: the comparison and its self-checks, one per scale, decided together.
+struct TestedFamily {
+  PyramidResult result;
+  std::vector<Comparison> comparisons;  // the comparison first, then the self-checks
+};
+
+TestedFamily test_family(const ImageSetInput& input, const ImageSetRequest& request,
+                         const SessionOptions& options) {
+  const Image& like = input.set.images.front();
   const std::size_t scales = pyramid_block_sizes(like.width, like.height, request.tile).size();
   const PyramidOptions blocks{.tile = request.tile,
                               .family_size = static_cast<std::uint32_t>(1 + scales)};
   const auto test = [&](const std::vector<Image>& images) {
-    if (other) return compare_blocks(images, other->images, options.alpha, blocks);
-    if (reference_stderr) {
-      return test_blocks_against_reference(images, *reference, *reference_stderr, options.alpha,
-                                           blocks);
+    if (input.other) return compare_blocks(images, input.other->images, options.alpha, blocks);
+    if (input.reference_stderr) {
+      return test_blocks_against_reference(images, *input.reference, *input.reference_stderr,
+                                           options.alpha, blocks);
     }
-    return test_blocks_against_exact(images, *reference, options.alpha, blocks);
+    return test_blocks_against_exact(images, *input.reference, options.alpha, blocks);
   };
   const ScaleRequirements& requirements = options.scale_requirements;
-  const PyramidResult result = test(set.images);
-  const std::vector<BlockSelfCheck> checks = pyramid_self_checks(result, set.images, test);
+  TestedFamily tested{.result = test(input.set.images), .comparisons = {}};
+  const std::vector<BlockSelfCheck> checks =
+      pyramid_self_checks(tested.result, input.set.images, test);
 
-  const std::string label = "images vs " + against.label;
-  std::vector<Verdict> verdicts = {pyramid_verdict(result, requirements, request.expect)};
-  std::vector<Comparison> comparisons = {pyramid_comparison(result, requirements, "images",
-                                                            against.id, label, "images",
-                                                            set.images.size(), request.expect)};
+  const std::string label = "images vs " + input.against.label;
+  const std::size_t count = input.set.images.size();
+  std::vector<Verdict> verdicts = {pyramid_verdict(tested.result, requirements, request.expect)};
+  tested.comparisons = {pyramid_comparison(tested.result, requirements, "images", input.against.id,
+                                           label, "images", count, request.expect)};
   for (const BlockSelfCheck& check : checks) {
     verdicts.push_back(pyramid_verdict(check.result, requirements, "biased"));
-    comparisons.push_back(pyramid_comparison(check.result, requirements, "images+injected",
-                                             against.id, label + check.label(), "images",
-                                             set.images.size(), "biased"));
+    tested.comparisons.push_back(pyramid_comparison(check.result, requirements, "images+injected",
+                                                    input.against.id, label + check.label(),
+                                                    "images", count, "biased"));
   }
   std::vector<Verdict*> family;
   for (Verdict& v : verdicts) family.push_back(&v);
   decide_family(family, options.alpha);
-  if (result.scales.front().worst_bright_relative_mdb < quantisation) {
+  if (tested.result.scales.front().worst_bright_relative_mdb < input.quantisation) {
     verdicts.front().reason += fmt::format(
         "; the detectable tile bias is below the worst-case quantisation bias of the pixel "
         "format ({:.3g}%): a difference that small may be the format's rounding",
-        100.0 * quantisation);
+        100.0 * input.quantisation);
   }
-  for (std::size_t i = 0; i < comparisons.size(); ++i) {
-    finish_comparison(comparisons[i], verdicts[i]);
+  for (std::size_t i = 0; i < tested.comparisons.size(); ++i) {
+    finish_comparison(tested.comparisons[i], verdicts[i]);
   }
+  return tested;
+}
 
-  warn_about_values(set, err);
-  if (other) warn_about_values(*other, err);
-
-  const fs::path folder = report_folder(options);
-  const PixelStatistics stats = pixel_statistics(set.images);
+// The set's pixel statistics and its z map against the other side.
+struct PixelMaps {
+  PixelStatistics stats;
   std::optional<PixelStatistics> other_stats;
-  if (other) other_stats = pixel_statistics(other->images);
-  const Image z = other_stats ? z_map(stats, *other_stats)
-                  : reference_stderr
-                      ? z_map(stats, PixelStatistics{.mean = *reference,
-                                                     .standard_error = *reference_stderr,
-                                                     .replicates = 0})
-                      : z_map(stats, *reference);
-  const PixelTestSummary pixels = summarize_z(
-      z, set.images, other ? std::span<const Image>(other->images) : std::span(&*reference, 1));
-  // Where every block that decides a difference differs by no more than the files' rounding,
-  // the reason says so (harness/verify/block_rounding.h).
-  if (comparisons.front().result == "biased") {
-    const std::vector<SideRounding> sides = {
-        side_rounding(stats.mean, set),
-        other ? side_rounding(other_stats->mean, *other)
-        : request.reference_image
-            ? SideRounding{&*reference, worst_quantisation_bias(reference_pixel_type),
-                           reference_pixel_type == "rgbe"}
-            : SideRounding{}};
-    const double ratio = worst_difference_over_rounding(comparisons.front(), result, sides);
-    if (ratio <= 1.0) {
-      comparisons.front().reason += fmt::format(
-          "; every block that differs differs by at most {:.2g}× the worst-case rounding of the "
-          "files' pixel format ({}): the format's rounding, not the renderer, may be what "
-          "differs; write float EXR or PFM to test below it",
-          ratio, rounding_formats(set, other ? &*other : nullptr, reference_pixel_type));
-    }
+  Image z;
+  PixelTestSummary pixels;
+};
+
+PixelMaps pixel_maps(const ImageSetInput& input) {
+  PixelMaps maps;
+  maps.stats = pixel_statistics(input.set.images);
+  if (input.other) maps.other_stats = pixel_statistics(input.other->images);
+  maps.z = maps.other_stats ? z_map(maps.stats, *maps.other_stats)
+           : input.reference_stderr
+               ? z_map(maps.stats, PixelStatistics{.mean = *input.reference,
+                                                   .standard_error = *input.reference_stderr,
+                                                   .replicates = 0})
+               : z_map(maps.stats, *input.reference);
+  maps.pixels = summarize_z(
+      maps.z, input.set.images,
+      input.other ? std::span<const Image>(input.other->images) : std::span(&*input.reference, 1));
+  return maps;
+}
+
+// Where every block that decides a difference differs by no more than the files' rounding,
+// the reason says so (harness/verify/block_rounding.h).
+void note_rounding(const ImageSetInput& input, const PixelMaps& maps,
+                   const ImageSetRequest& request, TestedFamily& tested) {
+  Comparison& comparison = tested.comparisons.front();
+  if (comparison.result != "biased") return;
+  const std::vector<SideRounding> sides = {
+      side_rounding(maps.stats.mean, input.set),
+      input.other ? side_rounding(maps.other_stats->mean, *input.other)
+      : request.reference_image
+          ? SideRounding{&*input.reference, worst_quantisation_bias(input.reference_pixel_type),
+                         input.reference_pixel_type == "rgbe"}
+          : SideRounding{}};
+  const double ratio = worst_difference_over_rounding(comparison, tested.result, sides);
+  if (ratio <= 1.0) {
+    comparison.reason += fmt::format(
+        "; every block that differs differs by at most {:.2g}× the worst-case rounding of the "
+        "files' pixel format ({}): the format's rounding, not the renderer, may be what "
+        "differs; write float EXR or PFM to test below it",
+        ratio,
+        rounding_formats(input.set, input.other ? &*input.other : nullptr,
+                         input.reference_pixel_type));
   }
+}
+
+// The mean, standard error and z map as EXR files in folder/images/; their names by kind, or
+// nothing when they cannot be written (said on `err`).
+std::optional<Json> write_images(const fs::path& folder, const PixelMaps& maps, std::ostream& err) {
   Json files;
   try {
     fs::create_directories(folder / "images");
@@ -284,17 +334,21 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
       write_exr_rgb(folder / name, image);
       files[kind] = name;
     };
-    write("mean", stats.mean);
-    write("stderr", stats.standard_error);
-    write("zmap", z);
+    write("mean", maps.stats.mean);
+    write("stderr", maps.stats.standard_error);
+    write("zmap", maps.z);
   } catch (const std::exception& e) {
     err << "pcbench: error: cannot write the images of " << folder.string() << ": " << e.what()
         << "\n";
-    return kExitRunFailed;
+    return std::nullopt;
   }
+  return files;
+}
 
-  ReportSections sections;
-  sections.comparisons = comparisons_json(comparisons);
+// The report's image_sets: the inputs, the pixel test and the image files.
+Json image_sets_json(const ImageSetRequest& request, const ImageSetInput& input,
+                     const PixelTestSummary& pixels, const Json& files) {
+  const Image& like = input.set.images.front();
   Json crop = nullptr;
   if (request.read.crop) {
     crop = {{"x", request.read.crop->x},
@@ -302,16 +356,16 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
             {"width", request.read.crop->width},
             {"height", request.read.crop->height}};
   }
-  sections.image_sets = Json{
+  return Json{
       {"images", request.images},
-      {"files", files_json(set)},
-      {"against", against.json},
+      {"files", files_json(input.set)},
+      {"against", input.against.json},
       {"width", like.width},
       {"height", like.height},
       {"channels", request.read.channels},
       {"crop", crop},
       {"tile", request.tile},
-      {"worst_quantisation_bias", quantisation},
+      {"worst_quantisation_bias", input.quantisation},
       {"pixel_test",
        {{"test", "pixel-z"},
         {"statistic", std::isfinite(pixels.max_abs_z) ? Json(pixels.max_abs_z) : Json(nullptr)},
@@ -319,7 +373,29 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
         {"expected_beyond_4_sigma_at_most", pixels.expected_beyond_4_sigma},
         {"low_count_pixels", pixels.low_count_pixels}}},
       {"image_files", files}};
-  for (const Comparison& c : comparisons) {
+}
+
+}  // namespace
+
+int run_image_set_verification(const ImageSetRequest& request, const SessionOptions& options,
+                               std::ostream& out, std::ostream& err) {
+  check_request(request, options);
+  // Everything is read and checked before anything is written.
+  const ImageSetInput input = read_input(request);
+  TestedFamily tested = test_family(input, request, options);
+  warn_about_values(input.set, err);
+  if (input.other) warn_about_values(*input.other, err);
+
+  const fs::path folder = report_folder(options);
+  const PixelMaps maps = pixel_maps(input);
+  note_rounding(input, maps, request, tested);
+  const std::optional<Json> files = write_images(folder, maps, err);
+  if (!files) return kExitRunFailed;
+
+  ReportSections sections;
+  sections.comparisons = comparisons_json(tested.comparisons);
+  sections.image_sets = image_sets_json(request, input, maps.pixels, *files);
+  for (const Comparison& c : tested.comparisons) {
     out << fmt::format("{}: {}{} ({})\n", c.estimator, c.result,
                        c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect),
                        c.reason);
@@ -327,7 +403,7 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
   if (!publish_report(options, folder, session_context(options), {}, sections, out, err)) {
     return kExitRunFailed;
   }
-  const bool as_expected = std::all_of(comparisons.begin(), comparisons.end(),
+  const bool as_expected = std::all_of(tested.comparisons.begin(), tested.comparisons.end(),
                                        [](const Comparison& c) { return c.result == c.expect; });
   return as_expected ? kExitOk : kExitVerdictDiffers;
 }

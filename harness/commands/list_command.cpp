@@ -3,10 +3,12 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <ostream>
 
 #include "estimators/registry.h"
+#include "harness/session/session.h"
 #include "integrands/registry.h"
 
 namespace pcbench {
@@ -37,51 +39,50 @@ void print_params(std::ostream& out, const std::vector<ParamSpec>& specs) {
   }
 }
 
-}  // namespace
-
-void print_registry(std::ostream& out, bool as_json) {
-  if (as_json) {
-    Json estimators = Json::array();
-    std::vector<const EstimatorEntry*> all;
-    for (const EstimatorEntry& e : estimator_registry()) all.push_back(&e);
-    for (const EstimatorEntry& e : scene_estimator_registry()) all.push_back(&e);
-    for (const EstimatorEntry* entry_pointer : all) {
-      const EstimatorEntry& e = *entry_pointer;
-      Json entry{{"name", e.name},
-                 {"biased", e.biased},
-                 {"params", params_json(e.params)},
-                 {"description", e.description},
-                 {"analytic", e.samples_analytic()},
-                 {"scenes", e.renders_scenes()},
-                 {"scene_params", params_json(e.scene_params)}};
-      if (e.declared) {
-        entry["declared"] = Json{{"integrand", e.declared->integrand},
-                                 {"params", e.declared->integrand_params},
-                                 {"samples", e.declared->samples},
-                                 {"replicates", e.declared->replicates},
-                                 {"partners", e.declared->partners}};
-      }
-      estimators.push_back(std::move(entry));
-    }
-    Json integrands = Json::array();
-    for (const IntegrandEntry& i : integrand_registry()) {
-      integrands.push_back(Json{{"name", i.name},
-                                {"params", params_json(i.params)},
-                                {"exact", i.exact},
-                                {"tags", i.tags},
-                                {"description", i.description}});
-    }
-    Json scenes = Json::array();
-    for (const IntegrandEntry& i : scene_registry()) {
-      scenes.push_back(Json{{"name", i.name},
-                            {"params", params_json(i.params)},
-                            {"exact", i.exact},
-                            {"description", i.description}});
-    }
-    out << Json{{"estimators", estimators}, {"integrands", integrands}, {"scenes", scenes}}.dump(2)
-        << "\n";
-    return;
+Json estimator_json(const EstimatorEntry& e) {
+  Json entry{{"name", e.name},
+             {"biased", e.biased},
+             {"params", params_json(e.params)},
+             {"description", e.description},
+             {"analytic", e.samples_analytic()},
+             {"scenes", e.renders_scenes()},
+             {"scene_params", params_json(e.scene_params)}};
+  if (e.declared) {
+    entry["declared"] = Json{{"integrand", e.declared->integrand},
+                             {"params", e.declared->integrand_params},
+                             {"samples", e.declared->samples},
+                             {"replicates", e.declared->replicates},
+                             {"partners", e.declared->partners}};
   }
+  return entry;
+}
+
+// `list --json`: the estimators (analytic, then scene-only), integrands and scenes.
+Json registry_json() {
+  Json estimators = Json::array();
+  for (const EstimatorEntry& e : estimator_registry()) estimators.push_back(estimator_json(e));
+  for (const EstimatorEntry& e : scene_estimator_registry()) {
+    estimators.push_back(estimator_json(e));
+  }
+  Json integrands = Json::array();
+  for (const IntegrandEntry& i : integrand_registry()) {
+    integrands.push_back(Json{{"name", i.name},
+                              {"params", params_json(i.params)},
+                              {"exact", i.exact},
+                              {"tags", i.tags},
+                              {"description", i.description}});
+  }
+  Json scenes = Json::array();
+  for (const IntegrandEntry& i : scene_registry()) {
+    scenes.push_back(Json{{"name", i.name},
+                          {"params", params_json(i.params)},
+                          {"exact", i.exact},
+                          {"description", i.description}});
+  }
+  return Json{{"estimators", estimators}, {"integrands", integrands}, {"scenes", scenes}};
+}
+
+void print_estimators(std::ostream& out) {
   out << "estimators:\n";
   for (const EstimatorEntry& e : estimator_registry()) {
     out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
@@ -110,6 +111,16 @@ void print_registry(std::ostream& out, bool as_json) {
     }
     print_params(out, e.scene_params);
   }
+}
+
+}  // namespace
+
+void print_registry(std::ostream& out, bool as_json) {
+  if (as_json) {
+    out << registry_json().dump(2) << "\n";
+    return;
+  }
+  print_estimators(out);
   out << "integrands:\n";
   for (const IntegrandEntry& i : integrand_registry()) {
     std::string tags = i.exact ? "[exact] " : "";
@@ -122,6 +133,17 @@ void print_registry(std::ostream& out, bool as_json) {
     out << fmt::format("  {:<20} {}{}\n", i.name, i.exact ? "[exact] " : "", i.description);
     print_params(out, i.params);
   }
+}
+
+CLI::App* add_list_command(CLI::App& app, ListArguments& args) {
+  CLI::App* list = app.add_subcommand("list", "estimators, integrands and scenes, with parameters");
+  list->add_flag("--json", args.json, "print as JSON");
+  return list;
+}
+
+int list_command(const ListArguments& args, const CommandContext& context) {
+  print_registry(context.out, args.json);
+  return kExitOk;
 }
 
 }  // namespace pcbench

@@ -1,5 +1,6 @@
 #include "harness/commands/plot_command.h"
 
+#include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <ostream>
@@ -44,6 +45,18 @@ int run_plot_command(const std::string& report, const std::optional<std::string>
   const int status = run_child_process(argv, out, err);
   if (status == kExitOk || status == kExitBadInput) return status;
   return kExitRunFailed;
+}
+
+CLI::App* add_plot_command(CLI::App& app, PlotArguments& args) {
+  CLI::App* plot = app.add_subcommand(
+      "plot", "figures of a report and an HTML page (index.html) with them and its runs");
+  plot->add_option("report", args.report, "a report.json written by pcbench")->required();
+  plot->add_option("--out,-o", args.out_dir, "folder for the figures (default: plots/ beside it)");
+  return plot;
+}
+
+int plot_command(const PlotArguments& args, const CommandContext& context) {
+  return run_plot_command(args.report, args.out_dir, context.out, context.err);
 }
 
 }  // namespace pcbench

@@ -1,11 +1,14 @@
 #include "harness/commands/reference_command.h"
 
 #include <fmt/format.h>
+#include <oneapi/tbb/global_control.h>
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 
 #include "base/errors.h"
 #include "base/text_hash.h"
+#include "harness/commands/command_line_grid.h"
 #include "harness/run/scene_runner.h"
 #include "harness/session/session.h"
 #include "harness/verify/image_statistics.h"
@@ -34,6 +37,9 @@ const SceneIntegrand& checked_scene(const RunPlan& plan) {
   }
   return *scene;
 }
+
+constexpr std::uint64_t kDefaultReferenceSamples = 256;
+constexpr std::uint32_t kDefaultReferenceReplicates = 8;
 
 }  // namespace
 
@@ -95,6 +101,49 @@ int run_reference_command(const std::vector<RunPlan>& plans, const ReferenceOpti
         stored ? "" : " (kept the cached image: it is at least as converged)");
   }
   return status;
+}
+
+CLI::App* add_reference_command(CLI::App& app, ReferenceArguments& args) {
+  CLI::App* reference = app.add_subcommand(
+      "reference",
+      "render converged images of scenes into the reference cache, for the errors (RMSE, "
+      "relative MSE, equal time) of later scene runs");
+  reference->add_option("--integrand,-i", args.integrands, "scene(s); a comma list renders each")
+      ->required()
+      ->delimiter(',');
+  reference->add_option("--estimator,-e", args.estimators, "estimator (default plain: BDPT)")
+      ->delimiter(',');
+  reference->add_option("--param,-p", args.params,
+                        "key=value, repeatable (resolution, max_length, …)");
+  reference
+      ->add_option("--samples,-n", args.samples, "samples per pixel per replicate (default 256)")
+      ->check(CLI::Range(std::uint64_t{1}, kMaxSamples));
+  reference
+      ->add_option("--replicates,-r", args.replicates,
+                   "replicates, for the image's standard error (default 8)")
+      ->check(CLI::Range(std::uint32_t{2}, kMaxReplicates));
+  add_seed_and_threads_options(reference, args.seed, args.threads);
+  add_reference_cache_option(reference, args.reference_cache);
+  return reference;
+}
+
+int reference_command(const ReferenceArguments& args, const CommandContext& context) {
+  const std::vector<std::string> estimators =
+      args.estimators.empty() ? std::vector<std::string>{"plain"} : args.estimators;
+  const ResolvedGrid grid = command_line_grid(estimators, args.integrands, args.params);
+  BudgetDefaults budget;
+  budget.forced_samples = args.samples > 0 ? args.samples : kDefaultReferenceSamples;
+  budget.forced_replicates = args.replicates > 0 ? args.replicates : kDefaultReferenceReplicates;
+  const std::vector<RunPlan> plans = plan_runs({grid}, budget);
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                  thread_count(args.threads));
+  if (this_rank() != 0) return serve_replicates(plans, context.interrupted);
+  return run_reference_command(plans,
+                               {.runner = {.seed = args.seed, .interrupted = context.interrupted},
+                                .cache = args.reference_cache,
+                                .argv = context.argv,
+                                .farm = replicate_farm(plans)},
+                               context.out, context.err);
 }
 
 }  // namespace pcbench

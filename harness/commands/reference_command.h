@@ -9,9 +9,11 @@
 #include <string>
 #include <vector>
 
+#include "harness/commands/command_options.h"
 #include "harness/plan/plan.h"
 #include "harness/run/replicate_farm.h"
 #include "harness/run/runner.h"
+#include "harness/verify/reference_cache.h"
 
 namespace pcbench {
 
@@ -29,5 +31,23 @@ struct ReferenceOptions {
 // status: 0 when every image was rendered, 3 when one failed or was interrupted.
 int run_reference_command(const std::vector<RunPlan>& plans, const ReferenceOptions& options,
                           std::ostream& out, std::ostream& err);
+
+// The command line: scenes and the estimator and budget that render their converged images.
+struct ReferenceArguments {
+  std::vector<std::string> integrands;
+  std::vector<std::string> estimators;  // default plain
+  std::vector<std::string> params;      // key=value
+  std::uint64_t samples = 0;            // default 256
+  std::uint32_t replicates = 0;         // default 8
+  std::uint64_t seed = kDefaultSeed;
+  unsigned threads = 0;
+  std::string reference_cache = kDefaultReferenceCache;
+};
+
+// Adds `reference` and its options to `app`.
+CLI::App* add_reference_command(CLI::App& app, ReferenceArguments& args);
+
+// `pcbench reference`: plans the images (every rank of an MPI job alike) and renders them.
+int reference_command(const ReferenceArguments& args, const CommandContext& context);
 
 }  // namespace pcbench
