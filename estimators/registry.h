@@ -1,5 +1,8 @@
 // The table of estimators: the one place an estimator is made known to pcbench (no static
-// self-registration, which silently loses entries at link time).
+// self-registration, which silently loses entries at link time). Each estimator's file defines
+// one function returning its whole row, an EstimatorEntry (both forms, parameters, and for a
+// negative control its declared workload); estimators/registry.cpp lists those functions, one
+// line each.
 #pragma once
 
 #include <cstdint>
@@ -46,6 +49,14 @@ struct EstimatorEntry {
   bool renders_scenes() const { return static_cast<bool>(make_render); }
   bool samples_analytic() const { return static_cast<bool>(make); }
 };
+
+// A list of entry functions written once and used twice (an X-macro), as estimators/registry.cpp
+// lists the estimators:
+//     #define MY_ESTIMATORS(ESTIMATOR) ESTIMATOR(pt_entry) ESTIMATOR(lt_entry)
+//     MY_ESTIMATORS(PCBENCH_DECLARE_ENTRY)         // EstimatorEntry pt_entry(); … lt_entry();
+//     rows = {MY_ESTIMATORS(PCBENCH_CALL_ENTRY)};  // rows = {pt_entry(), lt_entry(),};
+#define PCBENCH_DECLARE_ENTRY(function) EstimatorEntry function();
+#define PCBENCH_CALL_ENTRY(function) function(),
 
 // Estimators of analytic integrands (most of which render scenes too).
 const std::vector<EstimatorEntry>& estimator_registry();

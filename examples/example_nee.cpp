@@ -9,8 +9,6 @@
 // multi-sample MIS):
 //     <I_j> = Σ_t [ w_0 f / p_0 + 1/N Σ_{n<N} w_1 f / p_1 ],   w_1 = N p_1 / (p_0 + N p_1).
 // N = 1 is `pt`. Parameters: emitter_samples N (default 2).
-#include "examples/example_nee.h"
-
 #include "estimators/scene/scene_estimators.h"
 
 namespace pcbench::examples {

@@ -31,7 +31,7 @@
 #include "base/rng.h"
 #include "estimators/registry.h"
 #include "estimators/scene/render_replicate.h"
-#include "examples/example_nee.h"
+#include "examples/examples.h"
 #include "harness/verify/statistics.h"
 #include "integrands/scenes/bsdf.h"
 #include "integrands/scenes/built_in_scenes.h"
@@ -305,7 +305,7 @@ struct NamedEstimator {
 // The worked example of docs/dev/extending.md "Adding a scene estimator" at its defaults (it is
 // registered in pcbench_examples only).
 NamedEstimator example_nee() {
-  const EstimatorEntry e = examples::example_nee_entry();
+  const EstimatorEntry e = examples::example_entries().front();
   return {e.name, e.make_render(resolve_params(e.scene_params, {}, e.name))};
 }
 

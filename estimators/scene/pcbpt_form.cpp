@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "base/errors.h"
+#include "estimators/family_params.h"
 #include "estimators/scene/cache_points.h"
 #include "estimators/scene/pcbpt.h"
 #include "estimators/scene/scene_estimators.h"
@@ -144,9 +145,14 @@ PcbptConfig read_config(const ResolvedParams& p) {
 }  // namespace
 }  // namespace scene
 
-SceneForm pcbpt_scene_form() {
-  return {.params = scene::pcbpt_params(),
-          .make = [](const ResolvedParams& p) { return scene::make_pcbpt(scene::read_config(p)); }};
+EstimatorEntry pcbpt_entry() {
+  return family_entry(
+      "pcbpt", "probabilistic connections: K draws from P ∝ importance, mixed with uniform",
+      {pool_size_spec(), draws_spec(), pool_mode_spec(), draw_scheme_spec(), importance_spec(),
+       uniform_mix_spec(), sampler_spec(), cache_cells_spec()},
+      Selection::kImportance, DrawScheme::kIndependent,
+      {.params = scene::pcbpt_params(),
+       .make = [](const ResolvedParams& p) { return scene::make_pcbpt(scene::read_config(p)); }});
 }
 
 }  // namespace pcbench
