@@ -33,6 +33,23 @@ struct DeclaredWorkload {
   std::vector<std::string> partners = {};
 };
 
+// A parameter set of an estimator, over its defaults, with a name to show for it.
+struct NamedParams {
+  std::string name;
+  ParamText params;
+};
+
+// What tests/scene_mis_test.cpp runs of a scene estimator besides its defaults. Every scene
+// estimator's MIS weights are checked at its defaults on random paths of three scenes, and every
+// honest one renders an 8×8 furnace to its exact radiance, alike with 1 and 2 threads.
+struct SceneTests {
+  // Further parameter sets whose MIS weights are checked (pcbpt's ablations).
+  std::vector<NamedParams> weights = {};
+  // The furnace renders of an honest estimator, instead of one at its defaults (a smaller pool
+  // for 8×8 pixels; ablations). A negative control renders none.
+  std::vector<NamedParams> renders = {};
+};
+
 struct EstimatorEntry {
   std::string name;
   std::string description;
@@ -45,6 +62,7 @@ struct EstimatorEntry {
   // analytic integrands only; `make` unset: on scenes only.
   std::vector<ParamSpec> scene_params = {};
   MakeSceneEstimator make_render = {};
+  SceneTests scene_tests = {};  // what the scene tests run of it, besides its defaults
 
   bool renders_scenes() const { return static_cast<bool>(make_render); }
   bool samples_analytic() const { return static_cast<bool>(make); }

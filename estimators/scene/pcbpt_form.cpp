@@ -142,17 +142,64 @@ PcbptConfig read_config(const ResolvedParams& p) {
   return c;
 }
 
+// pcbpt's ablations, whose MIS weights and furnace renders the scene tests check: each element
+// of the default design replaced by its published or legacy value, the dense-cache limit
+// (lookup=exact), and the published and legacy designs whole. Their strategy counts differ
+// (light tracing from M or W·H paths, K draws), and so do their renderings.
+std::vector<NamedParams> ablations() {
+  return {{"cache=tile-first-hit lookup=tile", {{"cache", "tile-first-hit"}, {"lookup", "tile"}}},
+          {"lookup=tile guide=all", {{"lookup", "tile"}, {"guide", "all"}}},
+          {"floor=0", {{"floor", "0"}}},
+          {"visibility=ignored cache_importance=connection",
+           {{"visibility", "ignored"}, {"cache_importance", "connection"}}},
+          {"mis=resampling", {{"mis", "resampling"}}},
+          {"mis=resampling nee=draws", {{"mis", "resampling"}, {"nee", "draws"}}},
+          {"nee=draws", {{"nee", "draws"}}},
+          {"lookup=exact", {{"lookup", "exact"}}},
+          {"published", {{"nee", "draws"}, {"K", "3"}, {"M", "1024"}, {"light_tracing", "pixels"}}},
+          {"light_tracing=pixels", {{"light_tracing", "pixels"}}},
+          {"cache_importance=weighted", {{"cache_importance", "weighted"}}},
+          {"legacy",
+           {{"M", "1024"},
+            {"K", "8"},
+            {"nee", "draws"},
+            {"uniform_mix", "0.1"},
+            {"cache", "tile-first-hit"},
+            {"lookup", "tile"},
+            {"cache_importance", "connection"},
+            {"visibility", "ignored"},
+            {"floor", "0"},
+            {"light_tracing", "M"}}}};
+}
+
+// The scene tests: the ablations' MIS weights; in the furnace, whose 8×8 image needs a smaller
+// pool and grid than a typical run, the default design and each ablation on that pool (its M and
+// K stay the small ones).
+SceneTests scene_tests() {
+  const ParamText small = {{"M", "256"}, {"K", "4"}, {"tile", "4"}};
+  SceneTests tests{.weights = ablations(), .renders = {{"M=256 K=4 tile=4", small}}};
+  for (const NamedParams& ablation : ablations()) {
+    ParamText params = small;
+    params.emplace("grid", "4");
+    params.insert(ablation.params.begin(), ablation.params.end());  // keeps the small pool
+    tests.renders.push_back({ablation.name, std::move(params)});
+  }
+  return tests;
+}
+
 }  // namespace
 }  // namespace scene
 
 EstimatorEntry pcbpt_entry() {
-  return family_entry(
+  EstimatorEntry entry = family_entry(
       "pcbpt", "probabilistic connections: K draws from P ∝ importance, mixed with uniform",
       {pool_size_spec(), draws_spec(), pool_mode_spec(), draw_scheme_spec(), importance_spec(),
        uniform_mix_spec(), sampler_spec(), cache_cells_spec()},
       Selection::kImportance, DrawScheme::kIndependent,
       {.params = scene::pcbpt_params(),
        .make = [](const ResolvedParams& p) { return scene::make_pcbpt(scene::read_config(p)); }});
+  entry.scene_tests = scene::scene_tests();
+  return entry;
 }
 
 }  // namespace pcbench
