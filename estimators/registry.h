@@ -62,6 +62,9 @@ struct EstimatorEntry {
   // analytic integrands only; `make` unset: on scenes only.
   std::vector<ParamSpec> scene_params = {};
   MakeSceneEstimator make_render = {};
+  // Named configurations of its scene form, as parameters over its defaults (pcbpt's published
+  // and legacy tile designs), defined once in its file; `pcbench list` shows them.
+  std::vector<NamedParams> scene_configurations = {};
   SceneTests scene_tests = {};  // what the scene tests run of it, besides its defaults
 
   bool renders_scenes() const { return static_cast<bool>(make_render); }

@@ -110,6 +110,18 @@ def param_table(params):
     return lines + [""]
 
 
+def configuration_table(configurations):
+    """An estimator's named configurations: parameters over its defaults."""
+    if not configurations:
+        return []
+    lines = ["Named configurations on scenes (parameters over the defaults):", "",
+             "| configuration | parameters |", "|---|---|"]
+    for c in configurations:
+        params = " ".join(f"`-p {k}={v}`" for k, v in c["params"].items())
+        lines.append(f"| `{c['name']}` | {cell(params)} |")
+    return lines + [""]
+
+
 def link(source, path, up="../.."):
     rel = path.relative_to(source).as_posix()
     return f"[`{rel}`]({up}/{rel})"
@@ -162,6 +174,7 @@ def generate(pcbench, source):
             out += ["Parameters on analytic integrands:", ""] + param_table(e["params"])
         if e["scenes"]:
             out += ["Parameters on scenes:", ""] + param_table(e["scene_params"])
+            out += configuration_table(e.get("scene_configurations") or [])
         out += ["Source: " + "; ".join(cite(p) for p in estimator_files(source, e)) + ".", ""]
 
     out += ["## Integrands", "", "| integrand | exact reference | tags | description |",

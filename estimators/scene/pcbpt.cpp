@@ -26,19 +26,18 @@
 // (mis=resampling, resampling_counts.h; docs/findings/pcbpt-equal-time.md gives the measurements
 // that keep it off by default).
 //
-// Every choice is a parameter (PcbptConfig, pcbpt.h, names the published and legacy value of
-// each; pcbpt_form.cpp declares them): M (128), K (8), uniform_mix u (0.25), cache
-// every-depth|tile-first-hit, grid (16), tile (8), lookup nearest|tile|exact, Nc (3), guide
-// first|all, cache_importance light|connection|weighted, visibility cache-point|ignored, floor
-// (0.02), nee fresh|draws, light_tracing M|pixels, mis balance|resampling. The published design
-// is nee=draws K=3 M=1024 light_tracing=pixels with the other defaults (public sources: cache
-// points at every depth from a grid of about 1/16 of the pixels per axis, K = 3, three nearest
-// cache points and a uniform share of 0.25, importance without the camera-side BSDF, occluded
-// entries scaled by 0.02; docs/guide/scenes.md, "pcbpt's parameters"); nee=fresh, K = 8, M = 128
-// and light_tracing=M are pcbench's on measurement. The legacy values (cache=tile-first-hit
-// lookup=tile cache_importance=connection floor=0 light_tracing=M nee=draws with M=1024 K=8
-// uniform_mix=0.1 tile=8) are the tile design pcbench had before, bit for bit: one cache point per
-// tile at the first hit, its P mixed with uniform, deeper vertices uniform (guide=first).
+// Every choice is a parameter (PcbptConfig, pcbpt.h; pcbpt_form.cpp declares them): M (128), K
+// (8), uniform_mix u (0.25), cache every-depth|tile-first-hit, grid (16), tile (8), lookup
+// nearest|tile|exact, Nc (3), guide first|all, cache_importance light|connection|weighted,
+// visibility cache-point|ignored, floor (0.02), nee fresh|draws, light_tracing M|pixels, mis
+// balance|resampling. Two named configurations (pcbpt_form.cpp; `pcbench list` gives their
+// parameters): `published`, the published design (public sources: cache points at every depth
+// from a grid of about 1/16 of the pixels per axis, three nearest cache points and a uniform
+// share of 0.25, importance without the camera-side BSDF, occluded entries scaled by 0.02;
+// docs/guide/scenes.md, "pcbpt's parameters"), from which the defaults depart in four choices on
+// measurement; and `legacy-tile`, the tile design pcbench had before, bit for bit: one cache
+// point per tile at the first hit, its P mixed with uniform, deeper vertices uniform
+// (guide=first).
 #include "estimators/scene/pcbpt.h"
 
 #include <oneapi/tbb/parallel_for.h>

@@ -39,6 +39,22 @@ void print_params(std::ostream& out, const std::vector<ParamSpec>& specs) {
   }
 }
 
+Json configurations_json(const std::vector<NamedParams>& configurations) {
+  Json out = Json::array();
+  for (const NamedParams& c : configurations) {
+    out.push_back(Json{{"name", c.name}, {"params", c.params}});
+  }
+  return out;
+}
+
+void print_configurations(std::ostream& out, const std::vector<NamedParams>& configurations) {
+  for (const NamedParams& c : configurations) {
+    std::string params;
+    for (const auto& [key, value] : c.params) params += fmt::format(" -p {}={}", key, value);
+    out << fmt::format("      configuration {}:{}\n", c.name, params);
+  }
+}
+
 Json estimator_json(const EstimatorEntry& e) {
   Json entry{{"name", e.name},
              {"biased", e.biased},
@@ -46,7 +62,8 @@ Json estimator_json(const EstimatorEntry& e) {
              {"description", e.description},
              {"analytic", e.samples_analytic()},
              {"scenes", e.renders_scenes()},
-             {"scene_params", params_json(e.scene_params)}};
+             {"scene_params", params_json(e.scene_params)},
+             {"scene_configurations", configurations_json(e.scene_configurations)}};
   if (e.declared) {
     entry["declared"] = Json{{"integrand", e.declared->integrand},
                              {"params", e.declared->integrand_params},
@@ -95,6 +112,7 @@ void print_estimators(std::ostream& out) {
     if (e.renders_scenes() && !e.scene_params.empty()) {
       out << "      on scenes:\n";
       print_params(out, e.scene_params);
+      print_configurations(out, e.scene_configurations);
     }
   }
   out << "scene-only estimators:\n";
@@ -110,6 +128,7 @@ void print_estimators(std::ostream& out) {
           e.name);
     }
     print_params(out, e.scene_params);
+    print_configurations(out, e.scene_configurations);
   }
 }
 
