@@ -48,8 +48,10 @@ EstimatorEntry ctl_scene_visible_only_entry() {
              c.visibility_floor = 0.0;
              c.uniform_mix = 0.0;
              c.cache_visibility = true;
-             c.unseen_tiles_draw_nothing = true;
-             return scene::make_pcbpt(c);
+             // And its flaw: a cache point that sees no light vertex (P all zero with u = 0) draws
+             // nothing, its whole tile under design=tile, a draw that picks it under
+             // design=published, although camera vertices near it may see light.
+             return scene::make_pcbpt(c, scene::PcbptFlaw::kUnseenCachePointsDrawNothing);
            }},
       true);
   e.declared = DeclaredWorkload{

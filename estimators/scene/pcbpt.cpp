@@ -78,9 +78,10 @@ double light_importance(const Scene& scene, const PathVertex& x, const PathVerte
 
 class ProbabilisticPass final : public ScenePass {
  public:
-  ProbabilisticPass(const RenderServices& services, const PcbptConfig& config)
+  ProbabilisticPass(const RenderServices& services, const PcbptConfig& config, PcbptFlaw flaw)
       : services_(services),
         config_(config),
+        unseen_draw_nothing_(flaw == PcbptFlaw::kUnseenCachePointsDrawNothing),
         caches_(services, config.every_depth ? config.grid : config.tile, !config.every_depth) {
     if (config_.nearest_lookup()) nearest_.emplace(caches_.points());
     if (config_.resampling_mis) {
@@ -197,8 +198,7 @@ class ProbabilisticPass final : public ScenePass {
     const double paths = m();
     return connect_drawn_vertices(
         services_, pool, vertices_, prefix, config_.draws, [&](RandomStream& draws) {
-          const std::optional<std::uint32_t> index =
-              mixture.draw(draws, config_.unseen_tiles_draw_nothing);
+          const std::optional<std::uint32_t> index = mixture.draw(draws, unseen_draw_nothing_);
           if (!index) return VertexDraw{0, 0.0};
           return VertexDraw{*index, 1.0 / (k * paths * mixture.pmf(*index))};
         });
@@ -257,7 +257,7 @@ class ProbabilisticPass final : public ScenePass {
       if (total == 0.0) {
         // The nearest lookup counts it as uniform; lookup=tile mixes zero with uniform, except in
         // the control, whose tile then draws nothing (its bias).
-        if (config_.nearest_lookup() || config_.unseen_tiles_draw_nothing) return;
+        if (config_.nearest_lookup() || unseen_draw_nothing_) return;
       }
       step.build_pmf(PoolView{.importance = q}, caches_at_[c].pmf);
       caches_at_[c].sampler.build(caches_at_[c].pmf, DiscreteSamplerKind::kAlias);
@@ -267,6 +267,7 @@ class ProbabilisticPass final : public ScenePass {
 
   const RenderServices& services_;
   PcbptConfig config_;
+  bool unseen_draw_nothing_;  // the control's flaw (PcbptFlaw, pcbpt.h)
   CachePoints caches_;
   std::optional<NearestCachePoints> nearest_;
   // Per iteration: the candidates and, per cache point, P over them and its sampler (none when it
@@ -280,7 +281,7 @@ class ProbabilisticPass final : public ScenePass {
 
 class Probabilistic final : public SceneEstimator {
  public:
-  explicit Probabilistic(const PcbptConfig& config) : config_(config) {}
+  Probabilistic(const PcbptConfig& config, PcbptFlaw flaw) : config_(config), flaw_(flaw) {}
 
   std::uint32_t pool_size(const Scene& scene) const override {
     if (!config_.light_tracing_pixels) return config_.light_paths;
@@ -293,17 +294,18 @@ class Probabilistic final : public SceneEstimator {
     return counts;
   }
   std::unique_ptr<ScenePass> begin_replicate(const RenderServices& services) const override {
-    return std::make_unique<ProbabilisticPass>(services, config_);
+    return std::make_unique<ProbabilisticPass>(services, config_, flaw_);
   }
 
  private:
   PcbptConfig config_;
+  PcbptFlaw flaw_;
 };
 
 }  // namespace
 
-std::shared_ptr<const SceneEstimator> make_pcbpt(const PcbptConfig& config) {
-  return std::make_shared<Probabilistic>(config);
+std::shared_ptr<const SceneEstimator> make_pcbpt(const PcbptConfig& config, PcbptFlaw flaw) {
+  return std::make_shared<Probabilistic>(config, flaw);
 }
 
 }  // namespace scene

@@ -1,8 +1,8 @@
-// Probabilistic connections (pcbpt.cpp), configurable for its ablations and its negative control
-// (ctl_scene_visible_only.cpp). The defaults are pcbpt's: the published design but for four
-// choices that are pcbench's own, on measurement (docs/guide/scenes.md, "pcbpt's parameters").
-// Two named configurations, each defined once below as parameters over the defaults, name the
-// designs the others are measured against; `pcbench list` shows them.
+// Probabilistic connections (pcbpt.cpp), configurable for its ablations, and with one flaw for
+// its negative control (ctl_scene_visible_only.cpp). The defaults are pcbpt's: the published design
+// but for four choices that are pcbench's own, on measurement (docs/guide/scenes.md, "pcbpt's
+// parameters"). Two named configurations, each defined once below as parameters over the defaults,
+// name the designs the others are measured against; `pcbench list` shows them.
 #pragma once
 
 #include <cstdint>
@@ -66,15 +66,23 @@ struct PcbptConfig {
   // MIS counts of the connection strategies: K each (mis=balance), or the resampled
   // draws' effective samples of the path's light vertex (mis=resampling, resampling_counts.h).
   bool resampling_mis = false;
-  // The control's mistake with it: a tile whose cache point sees no light vertex draws nothing
-  // (with u = 0 its P is all zero), although its other pixels may see some.
-  bool unseen_tiles_draw_nothing = false;
+};
+
+// The mistake pcbpt's code makes only for its negative control, whose file
+// (ctl_scene_visible_only.cpp) asks for it with the honest configuration it starts from and says
+// why it is biased; no parameter of pcbpt reaches it.
+enum class PcbptFlaw {
+  kNone,
+  // A cache point that sees no light vertex (its importances sum to 0) draws nothing, where pcbpt
+  // counts it as uniform.
+  kUnseenCachePointsDrawNothing,
 };
 
 // The configuration of `params` (pcbpt's scene parameters, over its defaults), such as a named
 // design's; throws InputError as a run would.
 PcbptConfig pcbpt_config(const ParamText& params);
 
-std::shared_ptr<const SceneEstimator> make_pcbpt(const PcbptConfig& config);
+std::shared_ptr<const SceneEstimator> make_pcbpt(const PcbptConfig& config,
+                                                 PcbptFlaw flaw = PcbptFlaw::kNone);
 
 }  // namespace pcbench::scene
