@@ -69,6 +69,14 @@ const EstimatorEntry& find_estimator(const std::string& name) {
   const EstimatorEntry* found =
       find_by_name({&estimator_registry(), &scene_estimator_registry()}, name, names);
   if (found) return *found;
+  for (const auto* table : {&estimator_registry(), &scene_estimator_registry()}) {
+    for (const EstimatorEntry& entry : *table) {
+      for (const std::string& alias : entry.aliases) {
+        if (alias == name) return entry;
+        names.push_back(alias);
+      }
+    }
+  }
   throw InputError(fmt::format("unknown estimator '{}'{}; valid estimators: {}", name,
                                did_you_mean(name, names), join_names(names)));
 }

@@ -54,6 +54,9 @@ struct EstimatorEntry {
   std::string name;
   std::string description;
   bool biased = false;  // a negative control: the verifier must flag it
+  // Other names find_estimator accepts for this row (plain's `bdpt`). A run asked for by one is
+  // the run asked for by `name`: plans, reports and run ids use the row, and so `name`.
+  std::vector<std::string> aliases = {};
   std::vector<ParamSpec> params;
   std::function<std::unique_ptr<Estimator>(const ResolvedParams&)> make;
   std::optional<DeclaredWorkload> declared = {};  // set for every negative control
@@ -88,7 +91,7 @@ const std::vector<EstimatorEntry>& scene_estimator_registry();
 // (examples/main.cpp). Call it before anything looks an estimator up: rows may move.
 void register_scene_estimator(EstimatorEntry entry);
 
-// Throws InputError naming the valid estimators.
+// The row named or aliased `name`; throws InputError naming the valid estimators.
 const EstimatorEntry& find_estimator(const std::string& name);
 
 // The scene form of estimator `name` with `params` (defaults for the rest), as a run makes it:

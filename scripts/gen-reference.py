@@ -155,12 +155,16 @@ def generate(pcbench, source):
             "|---|---|---|---|"]
     for e in estimators:
         biased = " **[biased]**" if e["biased"] else ""
-        out.append(f"| [`{e['name']}`](#{anchor(e['name'])}){biased} | "
+        aliases = "".join(f" (`{a}`)" for a in e.get("aliases") or [])
+        out.append(f"| [`{e['name']}`](#{anchor(e['name'])}){aliases}{biased} | "
                    f"{'yes' if e['analytic'] else '—'} | {'yes' if e['scenes'] else '—'} | "
                    f"{cell(e['description'])} |")
     out.append("")
     for e in estimators:
         out += [f"### {e['name']}", "", sentence(e["description"]), ""]
+        if e.get("aliases"):
+            names = ", ".join(f"`{a}`" for a in e["aliases"])
+            out += [f"Also named {names}: the same estimator, runs and run ids.", ""]
         if e["biased"]:
             d = e["declared"]
             unit = "samples" if e["analytic"] else "samples per pixel"

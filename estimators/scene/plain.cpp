@@ -1,4 +1,4 @@
-// plain on scenes: bidirectional path tracing (BDPT).
+// plain on scenes: bidirectional path tracing (BDPT); also named bdpt (the same runs and ids).
 //
 // Estimates the image with W·H light subpaths per iteration and one camera subpath per pixel;
 // pixel i connects to light subpath i only (one fresh light path per camera sample, as plain
@@ -48,12 +48,14 @@ class Bdpt final : public scene::SceneEstimator {
 }  // namespace
 
 EstimatorEntry plain_entry() {
-  return family_entry(
-      "plain", "one fresh light path per camera sample, connected once (M = K = 1)", {},
-      Selection::kAll, DrawScheme::kEvery,
-      {.params = {}, .make = [](const ResolvedParams&) {
-         return std::shared_ptr<const scene::SceneEstimator>(std::make_shared<Bdpt>());
-       }});
+  EstimatorEntry entry =
+      family_entry("plain", "one fresh light path per camera sample, connected once (M = K = 1)",
+                   {}, Selection::kAll, DrawScheme::kEvery,
+                   {.params = {}, .make = [](const ResolvedParams&) {
+                      return std::shared_ptr<const scene::SceneEstimator>(std::make_shared<Bdpt>());
+                    }});
+  entry.aliases = {"bdpt"};  // what it is on scenes
+  return entry;
 }
 
 }  // namespace pcbench

@@ -55,8 +55,15 @@ void print_configurations(std::ostream& out, const std::vector<NamedParams>& con
   }
 }
 
+void print_aliases(std::ostream& out, const EstimatorEntry& e) {
+  if (e.aliases.empty()) return;
+  out << fmt::format("      also named {} (the same estimator, runs and run ids)\n",
+                     fmt::join(e.aliases, ", "));
+}
+
 Json estimator_json(const EstimatorEntry& e) {
   Json entry{{"name", e.name},
+             {"aliases", e.aliases},
              {"biased", e.biased},
              {"params", params_json(e.params)},
              {"description", e.description},
@@ -103,6 +110,7 @@ void print_estimators(std::ostream& out) {
   out << "estimators:\n";
   for (const EstimatorEntry& e : estimator_registry()) {
     out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
+    print_aliases(out, e);
     if (e.declared) {
       out << fmt::format("      biased on {} at {} samples x {} replicates (`verify -e {}`)\n",
                          e.declared->integrand, e.declared->samples, e.declared->replicates,
@@ -118,6 +126,7 @@ void print_estimators(std::ostream& out) {
   out << "scene-only estimators:\n";
   for (const EstimatorEntry& e : scene_estimator_registry()) {
     out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
+    print_aliases(out, e);
     if (e.declared) {
       out << fmt::format(
           "      biased on {} at {} samples per pixel x {} replicates{} (`verify -e {}`)\n",
