@@ -11,17 +11,19 @@ namespace pcbench {
 
 // The estimators, one line each, in the order of `pcbench list`: the function its file defines
 // (estimators/scene/<key>.cpp for the family and the scene estimators), which returns its whole
-// row. ESTIMATOR(f) declares f here and calls it in make_tables() below.
-#define PCBENCH_ESTIMATORS(ESTIMATOR)       \
-  ESTIMATOR(plain_entry)                    \
-  ESTIMATOR(vc_all_entry)                   \
-  ESTIMATOR(lvc_entry)                      \
-  ESTIMATOR(pcbpt_entry)                    \
-  ESTIMATOR(pt_entry)                       \
-  ESTIMATOR(lt_entry)                       \
-  ESTIMATOR(ctl_scene_visible_only_entry)   \
+// row. ESTIMATOR(f) declares f here and calls it in make_tables() below; a new line goes above
+// the last, which ends the list.
+#define PCBENCH_ESTIMATORS(ESTIMATOR) \
+  ESTIMATOR(plain_entry) \
+  ESTIMATOR(vc_all_entry) \
+  ESTIMATOR(lvc_entry) \
+  ESTIMATOR(pcbpt_entry) \
+  ESTIMATOR(pt_entry) \
+  ESTIMATOR(lt_entry) \
+  ESTIMATOR(ctl_scene_visible_only_entry) \
   ESTIMATOR(ctl_scene_lvc_per_vertex_entry) \
-  ESTIMATOR(ctl_scene_nee_count_entry)
+  ESTIMATOR(ctl_scene_nee_count_entry) \
+  /* the end of the list */
 
 PCBENCH_ESTIMATORS(PCBENCH_DECLARE_ENTRY)
 
