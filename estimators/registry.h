@@ -60,7 +60,7 @@ struct EstimatorEntry {
   std::vector<ParamSpec> params;
   std::function<std::unique_ptr<Estimator>(const ResolvedParams&)> make;
   std::optional<DeclaredWorkload> declared = {};  // set for every negative control
-  // Scenes (estimators/scene/scene_estimators.h): the parameters the estimator reads on a scene
+  // Scenes (estimators/scene/scene_form.h): the parameters the estimator reads on a scene
   // and the factory of its SceneEstimator (its SceneForm). Unset: the estimator works on
   // analytic integrands only; `make` unset: on scenes only.
   std::vector<ParamSpec> scene_params = {};

@@ -53,7 +53,6 @@
 #include "estimators/scene/cache_mixture.h"
 #include "estimators/scene/cache_points.h"
 #include "estimators/scene/resampling_counts.h"
-#include "estimators/scene/scene_estimators.h"
 #include "estimators/scene/vertex_draws.h"
 #include "integrands/scenes/bsdf.h"
 #include "integrands/scenes/path_vertex.h"
