@@ -83,7 +83,7 @@ RecordedScene record_bdpt(const std::string& name) {
   RecordedScene r;
   r.scene = make_scene(name);
   const Scene& scene = *r.scene;
-  const auto bdpt = make_scene_estimator("plain");
+  const auto bdpt = make_scene_estimator("bdpt");
   const StrategyCounts counts = bdpt->strategy_counts(scene);
   const std::uint32_t w = scene.description().width, h = scene.description().height;
   const std::uint32_t max_length = scene.description().max_length;
@@ -385,7 +385,7 @@ void BM_RenderIteration(benchmark::State& state, const std::string& estimator) {
   state.counters["closest_rays"] = benchmark::Counter(closest, benchmark::Counter::kAvgIterations);
   state.counters["shadow_rays"] = benchmark::Counter(shadow, benchmark::Counter::kAvgIterations);
 }
-BENCHMARK_CAPTURE(BM_RenderIteration, bdpt, std::string("plain"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_RenderIteration, bdpt, std::string("bdpt"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RenderIteration, pt, std::string("pt"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_RenderIteration, pcbpt, std::string("pcbpt"))->Unit(benchmark::kMillisecond);
 

@@ -1,5 +1,6 @@
 #include "estimators/family_params.h"
 
+#include <memory>
 #include <string>
 
 namespace pcbench {
@@ -105,6 +106,20 @@ ResamplingConfig config_from(const ResolvedParams& params, ResamplingConfig conf
   if (params.has("severity")) step.severity = params.real("severity");
   if (step.scheme == DrawScheme::kEvery) step.K = step.M;
   return config;
+}
+
+EstimatorEntry family_entry(std::string name, std::string description,
+                            std::vector<ParamSpec> params, Selection selection, DrawScheme scheme,
+                            SceneForm scene) {
+  const ResamplingConfig base{.step = {.selection = selection, .scheme = scheme}};
+  return {.name = std::move(name),
+          .description = std::move(description),
+          .params = std::move(params),
+          .make = [base](const ResolvedParams& resolved) -> std::unique_ptr<Estimator> {
+            return std::make_unique<ResamplingEstimator>(config_from(resolved, base));
+          },
+          .scene_params = std::move(scene.params),
+          .make_render = std::move(scene.make)};
 }
 
 }  // namespace pcbench

@@ -1,10 +1,15 @@
-// Parameter declarations of the resampling family (estimators/resampling.h documents them) and
-// the reading of resolved parameters into a ResamplingConfig; shared by the estimators and the
-// negative controls.
+// Parameter declarations of the resampling family (estimators/resampling.h documents them), the
+// reading of resolved parameters into a ResamplingConfig, shared by the estimators and the
+// negative controls, and a member's registry row.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "base/params.h"
+#include "estimators/registry.h"
 #include "estimators/resampling.h"
+#include "estimators/scene/scene_form.h"
 
 namespace pcbench {
 
@@ -21,5 +26,11 @@ ParamSpec severity_spec(std::string what);
 
 // The config of `base` with every family parameter present in `params` applied.
 ResamplingConfig config_from(const ResolvedParams& params, ResamplingConfig base);
+
+// The row of a member of the family: its analytic form (the resampling estimator with
+// `selection` and `scheme`, reading `params`) and its scene form (estimators/scene/<key>.cpp).
+EstimatorEntry family_entry(std::string name, std::string description,
+                            std::vector<ParamSpec> params, Selection selection, DrawScheme scheme,
+                            SceneForm scene);
 
 }  // namespace pcbench

@@ -5,71 +5,65 @@
 #include "base/errors.h"
 #include "base/name_lookup.h"
 #include "base/nearest_name.h"
-#include "estimators/family_params.h"
 #include "estimators/negative_controls.h"
-#include "estimators/resampling.h"
-#include "estimators/scene/scene_estimators.h"
 
 namespace pcbench {
+
+// The estimators, one line each, in the order of `pcbench list`: the function its file defines
+// (estimators/scene/<key>.cpp for the family and the scene estimators), which returns its whole
+// row. ESTIMATOR(f) declares f here and calls it in make_tables() below; a new line goes above
+// the last, which ends the list.
+#define PCBENCH_ESTIMATORS(ESTIMATOR) \
+  ESTIMATOR(plain_entry) \
+  ESTIMATOR(vc_all_entry) \
+  ESTIMATOR(lvc_entry) \
+  ESTIMATOR(pcbpt_entry) \
+  ESTIMATOR(pt_entry) \
+  ESTIMATOR(lt_entry) \
+  ESTIMATOR(ctl_scene_visible_only_entry) \
+  ESTIMATOR(ctl_scene_lvc_per_vertex_entry) \
+  ESTIMATOR(ctl_scene_nee_count_entry) \
+  /* the end of the list */
+
+PCBENCH_ESTIMATORS(PCBENCH_DECLARE_ENTRY)
+
 namespace {
 
-// A member of the family: its analytic form (the resampling estimator with `selection` and
-// `scheme`) and its scene form (estimators/scene/), in one row.
-EstimatorEntry family_entry(std::string name, std::string description,
-                            std::vector<ParamSpec> params, Selection selection, DrawScheme scheme,
-                            SceneForm scene) {
-  const ResamplingConfig base{.step = {.selection = selection, .scheme = scheme}};
-  return {.name = std::move(name),
-          .description = std::move(description),
-          .params = std::move(params),
-          .make = [base](const ResolvedParams& resolved) -> std::unique_ptr<Estimator> {
-            return std::make_unique<ResamplingEstimator>(config_from(resolved, base));
-          },
-          .scene_params = std::move(scene.params),
-          .make_render = std::move(scene.make)};
+// The rows with an analytic form (most render scenes too) and those of scenes only, in list
+// order: the estimators above, then the analytic negative controls (negative_controls.h, one
+// file of seven). Rows registered later (register_scene_estimator) go after the scene ones.
+struct Tables {
+  std::vector<EstimatorEntry> analytic;
+  std::vector<EstimatorEntry> scene_only;
+};
+
+Tables make_tables() {
+  std::vector<EstimatorEntry> rows = {PCBENCH_ESTIMATORS(PCBENCH_CALL_ENTRY)};
+  for (EstimatorEntry& entry : negative_control_entries()) rows.push_back(std::move(entry));
+  Tables tables;
+  for (EstimatorEntry& entry : rows) {
+    (entry.samples_analytic() ? tables.analytic : tables.scene_only).push_back(std::move(entry));
+  }
+  return tables;
 }
 
-std::vector<EstimatorEntry> make_table() {
-  std::vector<EstimatorEntry> table = {
-      family_entry("plain", "one fresh light path per camera sample, connected once (M = K = 1)",
-                   {}, Selection::kAll, DrawScheme::kEvery, plain_scene_form()),
-      family_entry("vc-all", "vertex connection to every light path of a pool of M",
-                   {pool_size_spec(), pool_mode_spec()}, Selection::kAll, DrawScheme::kEvery,
-                   vc_all_scene_form()),
-      family_entry("lvc", "light vertex cache: K uniform draws from the pool's M light vertices",
-                   {pool_size_spec(), draws_spec(), pool_mode_spec(), draw_scheme_spec()},
-                   Selection::kUniform, DrawScheme::kIndependent, lvc_scene_form()),
-      family_entry("pcbpt",
-                   "probabilistic connections: K draws from P ∝ importance, mixed with uniform",
-                   {pool_size_spec(), draws_spec(), pool_mode_spec(), draw_scheme_spec(),
-                    importance_spec(), uniform_mix_spec(), sampler_spec(), cache_cells_spec()},
-                   Selection::kImportance, DrawScheme::kIndependent, pcbpt_scene_form()),
-  };
-  for (EstimatorEntry& entry : negative_control_entries()) table.push_back(std::move(entry));
-  return table;
-}
-
-// The estimators of scenes only. Rows registered later (register_scene_estimator) go after.
-std::vector<EstimatorEntry>& scene_table() {
-  static std::vector<EstimatorEntry> table = {
-      pt_entry(), lt_entry(), ctl_scene_visible_only_entry(), ctl_scene_lvc_per_vertex_entry(),
-      ctl_scene_nee_count_entry()};
-  return table;
+Tables& tables() {
+  static Tables tables = make_tables();
+  return tables;
 }
 
 }  // namespace
 
 const std::vector<EstimatorEntry>& estimator_registry() {
-  static const std::vector<EstimatorEntry> table = make_table();
-  return table;
+  return tables().analytic;
 }
 
 const std::vector<EstimatorEntry>& scene_estimator_registry() {
-  return scene_table();
+  return tables().scene_only;
 }
 
 void register_scene_estimator(EstimatorEntry entry) {
-  scene_table().push_back(std::move(entry));
+  tables().scene_only.push_back(std::move(entry));
 }
 
 const EstimatorEntry& find_estimator(const std::string& name) {
@@ -77,6 +71,14 @@ const EstimatorEntry& find_estimator(const std::string& name) {
   const EstimatorEntry* found =
       find_by_name({&estimator_registry(), &scene_estimator_registry()}, name, names);
   if (found) return *found;
+  for (const auto* table : {&estimator_registry(), &scene_estimator_registry()}) {
+    for (const EstimatorEntry& entry : *table) {
+      for (const std::string& alias : entry.aliases) {
+        if (alias == name) return entry;
+        names.push_back(alias);
+      }
+    }
+  }
   throw InputError(fmt::format("unknown estimator '{}'{}; valid estimators: {}", name,
                                did_you_mean(name, names), join_names(names)));
 }

@@ -9,8 +9,10 @@
 // multi-sample MIS):
 //     <I_j> = Σ_t [ w_0 f / p_0 + 1/N Σ_{n<N} w_1 f / p_1 ],   w_1 = N p_1 / (p_0 + N p_1).
 // N = 1 is `pt`. Parameters: emitter_samples N (default 2).
-#include "examples/example_nee.h"
-
+//
+// All of it is this file, which ends with its row (example_nee_entry, the estimator whole), one
+// line of the examples' registry (examples/examples.cpp) and one of the build (CMakeLists.txt,
+// pcbench_example_estimators): tests/scene_mis_test.cpp reads it from there, with no edit.
 #include "estimators/scene/scene_estimators.h"
 
 namespace pcbench::examples {

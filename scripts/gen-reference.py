@@ -110,6 +110,18 @@ def param_table(params):
     return lines + [""]
 
 
+def configuration_table(configurations):
+    """An estimator's named configurations: parameters over its defaults."""
+    if not configurations:
+        return []
+    lines = ["Named configurations on scenes (parameters over the defaults):", "",
+             "| configuration | parameters |", "|---|---|"]
+    for c in configurations:
+        params = " ".join(f"`-p {k}={v}`" for k, v in c["params"].items())
+        lines.append(f"| `{c['name']}` | {cell(params)} |")
+    return lines + [""]
+
+
 def link(source, path, up="../.."):
     rel = path.relative_to(source).as_posix()
     return f"[`{rel}`]({up}/{rel})"
@@ -143,12 +155,16 @@ def generate(pcbench, source):
             "|---|---|---|---|"]
     for e in estimators:
         biased = " **[biased]**" if e["biased"] else ""
-        out.append(f"| [`{e['name']}`](#{anchor(e['name'])}){biased} | "
+        aliases = "".join(f" (`{a}`)" for a in e.get("aliases") or [])
+        out.append(f"| [`{e['name']}`](#{anchor(e['name'])}){aliases}{biased} | "
                    f"{'yes' if e['analytic'] else '—'} | {'yes' if e['scenes'] else '—'} | "
                    f"{cell(e['description'])} |")
     out.append("")
     for e in estimators:
         out += [f"### {e['name']}", "", sentence(e["description"]), ""]
+        if e.get("aliases"):
+            names = ", ".join(f"`{a}`" for a in e["aliases"])
+            out += [f"Also named {names}: the same estimator, runs and run ids.", ""]
         if e["biased"]:
             d = e["declared"]
             unit = "samples" if e["analytic"] else "samples per pixel"
@@ -162,6 +178,7 @@ def generate(pcbench, source):
             out += ["Parameters on analytic integrands:", ""] + param_table(e["params"])
         if e["scenes"]:
             out += ["Parameters on scenes:", ""] + param_table(e["scene_params"])
+            out += configuration_table(e.get("scene_configurations") or [])
         out += ["Source: " + "; ".join(cite(p) for p in estimator_files(source, e)) + ".", ""]
 
     out += ["## Integrands", "", "| integrand | exact reference | tags | description |",

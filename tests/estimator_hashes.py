@@ -5,9 +5,10 @@ Usage:
     /usr/bin/python3 tests/estimator_hashes.py PATH/TO/pcbench PATH/TO/pcbench_exr_pixel_hash \
                      SOURCE_DIR [--write]
 
-Runs the two commands of COMMANDS below (every scene estimator, pcbpt with each visibility and
-guide, and the scene controls on the four built-in scenes at 32x32; the whole default suite at a
-small budget) with 1 thread and with 2, and hashes per run what the estimators determine:
+Runs the commands of commands() below (every scene estimator, pcbpt with each visibility and
+guide, also in its two named designs, and the scene controls on the four built-in scenes at
+32x32; the whole default suite at a small budget) with 1 thread and with 2, and hashes per run
+what the estimators determine:
   - the per-replicate estimates and their summaries (mean_abs, n, nonfinite, largest_abs,
     nonzero, effective_samples), the run's mean, standard error and mean_abs, the counters
     (scene_builds aside: it counts the process's BVH builds, not the run's work), and the
@@ -31,30 +32,43 @@ import tempfile
 SCENE_ESTIMATORS = ["pt", "lt", "plain", "vc-all", "lvc", "pcbpt", "ctl-scene-visible-only",
                     "ctl-scene-lvc-per-vertex"]
 SCENES = ["furnace", "cornell", "cornell-glossy", "door-ajar"]
-# pcbpt's legacy tile design (estimators/scene/pcbpt.h names each choice's legacy value): its
-# runs keep the ids, random streams and numbers they had before the published design.
-PCBPT_LEGACY = ["-p", "M=1024", "-p", "K=8", "-p", "uniform_mix=0.1", "-p", "cache=tile-first-hit",
-                "-p", "lookup=tile", "-p", "cache_importance=connection", "-p", "floor=0",
-                "-p", "light_tracing=M", "-p", "nee=draws"]
-# Arguments after `pcbench run`; the grid's visibility and guide are read by pcbpt only.
-COMMANDS = {
-    "scenes": ["-e", ",".join(SCENE_ESTIMATORS), "-i", ",".join(SCENES),
-               "-p", "resolution=32", "-p", "visibility=ignored,cache-point",
-               "-p", "guide=first,all", "-n", "4", "-r", "2", "-s", "1", "--strategy-images"],
-    "pcbpt-legacy": ["-e", "pcbpt", "-i", ",".join(SCENES), "-p", "resolution=32",
-                     "-p", "visibility=ignored,cache-point", "-p", "guide=first,all"]
-                    + PCBPT_LEGACY + ["-n", "4", "-r", "2", "-s", "1", "--strategy-images"],
-    # pcbpt's published choices where pcbench's defaults differ (nee, K, M, light_tracing;
-    # pcbpt.h): these runs keep the ids and numbers they had as pcbpt's defaults.
-    "pcbpt-published": ["-e", "pcbpt", "-i", ",".join(SCENES), "-p", "resolution=32",
-                        "-p", "visibility=ignored,cache-point", "-p", "guide=first,all",
-                        "-p", "nee=draws", "-p", "K=3", "-p", "M=1024",
-                        "-p", "light_tracing=pixels",
-                        "-n", "4", "-r", "2", "-s", "1", "--strategy-images"],
-    # Every row of the default suite (113 runs) at 2048 samples x 4 replicates instead of its
-    # 10^5-10^6 x 32, which would take minutes.
-    "analytic": ["suites/default.json", "-n", "2048", "-r", "4", "-s", "1"],
-}
+# The grid of pcbpt's visibility and guide (read by pcbpt only) over its named designs.
+PCBPT_GRID = {"visibility": "ignored,cache-point", "guide": "first,all"}
+
+
+def pcbpt_design(binary, name):
+    """`-p k=v` for each parameter of pcbpt's named configuration `name` (`pcbench list --json`,
+    defined in estimators/scene/pcbpt_form.cpp) that the grid does not set."""
+    listing = json.loads(subprocess.run([binary, "list", "--json"], check=True,
+                                        capture_output=True, text=True).stdout)
+    pcbpt = next(e for e in listing["estimators"] if e["name"] == "pcbpt")
+    design = next(c for c in pcbpt["scene_configurations"] if c["name"] == name)
+    return [a for k, v in design["params"].items() if k not in PCBPT_GRID
+            for a in ("-p", f"{k}={v}")]
+
+
+def commands(binary):
+    """Arguments after `pcbench run`, by name."""
+    pcbpt = ["-e", "pcbpt", "-i", ",".join(SCENES), "-p", "resolution=32"]
+    for k, v in PCBPT_GRID.items():
+        pcbpt += ["-p", f"{k}={v}"]
+    scene_budget = ["-n", "4", "-r", "2", "-s", "1", "--strategy-images"]
+    return {
+        "scenes": ["-e", ",".join(SCENE_ESTIMATORS), "-i", ",".join(SCENES),
+                   "-p", "resolution=32", "-p", "visibility=ignored,cache-point",
+                   "-p", "guide=first,all"] + scene_budget,
+        # pcbpt's legacy tile design: its runs keep the ids, random streams and numbers they had
+        # before the published design.
+        "pcbpt-legacy": pcbpt + pcbpt_design(binary, "legacy-tile") + scene_budget,
+        # pcbpt's published design (its choices where pcbench's defaults differ): these runs keep
+        # the ids and numbers they had as pcbpt's defaults.
+        "pcbpt-published": pcbpt + pcbpt_design(binary, "published") + scene_budget,
+        # Every row of the default suite (113 runs) at 2048 samples x 4 replicates instead of its
+        # 10^5-10^6 x 32, which would take minutes.
+        "analytic": ["suites/default.json", "-n", "2048", "-r", "4", "-s", "1"],
+    }
+
+
 THREADS = [1, 2]
 RECORD = os.path.join("tests", "data", "estimator_hashes.json")
 
@@ -117,13 +131,14 @@ def main():
     binary, tool, source = (os.path.abspath(a) for a in sys.argv[1:4])
     write = "--write" in sys.argv[4:]
     failures = []
+    runs_of = commands(binary)
     record = {"commands": {n: "pcbench run " + " ".join(a) + " --threads T -q --out DIR "
-                              "--reference-cache EMPTY_DIR" for n, a in COMMANDS.items()},
+                              "--reference-cache EMPTY_DIR" for n, a in runs_of.items()},
               "made_by": "tests/estimator_hashes.py PCBENCH PCBENCH_EXR_PIXEL_HASH SOURCE_DIR "
                          "--write",
               "threads": THREADS, "runs": {}}
     with tempfile.TemporaryDirectory(prefix="pcbench-hashes-") as scratch:
-        for name, args in COMMANDS.items():
+        for name, args in runs_of.items():
             by_threads = [hash_runs(binary, tool, source, name, args, t, scratch)
                           for t in THREADS]
             for t, runs in zip(THREADS[1:], by_threads[1:]):

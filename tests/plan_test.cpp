@@ -468,6 +468,25 @@ TEST(PlanNames, ResolvedOnceIntoTheRegistryRowsThePlansCarry) {
   EXPECT_EQ(plans[1].id, plan_runs({grid({"plain", "pcbpt"}, {"genz-gaussian"})}, {}).at(1).id);
 }
 
+// Another name of a row (plain's `bdpt`) is that row: a run asked for by it is the run asked for
+// by the row's name, its id included, on scenes and on analytic integrands; both in one grid are
+// one run.
+TEST(PlanNames, AnAliasPlansTheRunsOfItsRow) {
+  EXPECT_EQ(&find_estimator("bdpt"), &find_estimator("plain"));
+  for (const std::string integrand : {"cornell", "genz-gaussian"}) {
+    SCOPED_TRACE(integrand);
+    const std::vector<RunPlan> alias = plan_runs({grid({"bdpt"}, {integrand})}, {});
+    const std::vector<RunPlan> name = plan_runs({grid({"plain"}, {integrand})}, {});
+    ASSERT_EQ(alias.size(), 1u);
+    ASSERT_EQ(name.size(), 1u);
+    EXPECT_EQ(alias[0].id, name[0].id);
+    EXPECT_EQ(alias[0].estimator->name, "plain");
+    EXPECT_EQ(plan_runs({grid({"plain", "bdpt"}, {integrand})}, {}).size(), 1u);
+  }
+  const std::string message = plan_error({grid({"bdtp"}, {"cornell"})});
+  EXPECT_TRUE(contains(message, "did you mean 'bdpt'")) << message;
+}
+
 TEST(PlanNames, AnUnknownNameSaysWhereItWasGiven) {
   const std::string message =
       plan_error({grid({"plian"}, {"genz-gaussian"}, {}, "s.json: /runs/3")});

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <string>
@@ -8,6 +9,7 @@
 #include "base/errors.h"
 #include "base/params.h"
 #include "estimators/registry.h"
+#include "examples/examples.h"
 #include "integrands/registry.h"
 
 namespace pcbench {
@@ -118,6 +120,33 @@ TEST(RegistryDefaults, EveryEntryWithoutRequiredParametersBuildsFromDefaults) {
     if (has_required(i.params)) continue;
     const ResolvedParams params = resolve_params(i.params, {}, i.name);
     EXPECT_NE(i.make(params), nullptr) << "integrand " << i.name;
+  }
+}
+
+// An entry's named configurations and the parameter sets of its scene tests name only parameters
+// of its scene form, with valid values: resolve_params passes over a key it does not declare, so
+// a misspelt one would silently leave the default.
+TEST(RegistryDefaults, NamedParameterSetsNameOnlyTheirScenesParameters) {
+  const std::vector<EstimatorEntry> examples = examples::example_entries();
+  for (const auto* table : {&estimator_registry(), &scene_estimator_registry(), &examples}) {
+    for (const EstimatorEntry& e : *table) {
+      std::vector<NamedParams> sets = e.scene_configurations;
+      sets.insert(sets.end(), e.scene_tests.weights.begin(), e.scene_tests.weights.end());
+      sets.insert(sets.end(), e.scene_tests.renders.begin(), e.scene_tests.renders.end());
+      if (!sets.empty()) {
+        EXPECT_TRUE(e.renders_scenes()) << e.name;
+      }
+      for (const NamedParams& set : sets) {
+        for (const auto& entry : set.params) {
+          const std::string& key = entry.first;
+          EXPECT_TRUE(std::any_of(e.scene_params.begin(), e.scene_params.end(),
+                                  [&](const ParamSpec& spec) { return spec.name == key; }))
+              << e.name << " " << set.name << ": " << key;
+        }
+        EXPECT_NO_THROW(resolve_params(e.scene_params, set.params, e.name))
+            << e.name << " " << set.name;
+      }
+    }
   }
 }
 

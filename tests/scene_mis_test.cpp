@@ -2,19 +2,23 @@
 // z_0 .. z_k (z_0 at the camera, z_k on an emitter) taken from real subpaths:
 //   - mis_weight gives strategy (s, t), s + t = k + 1, the balance heuristic n_s p_s / Σ n p
 //     over the strategies of each scene estimator's StrategyCounts (every estimator of the
-//     registry that renders scenes, at its defaults, and the example example-nee; p: the
-//     product of the vertices' area densities as that strategy samples them), so the weights
-//     sum to 1;
+//     registry and of the examples that renders scenes, at its defaults and at the parameters its
+//     entry's SceneTests declare; p: the product of the vertices' area densities as that
+//     strategy samples them), so the weights sum to 1;
 //   - connect()'s unweighted value is the path's contribution f(z) divided by p_s;
 //   - the walks' bookkeeping (pdf_fwd, pdf_rev, beta) matches the path.
 // The densities and contributions here are computed from the vertex positions, apart from
 // path_vertex.cpp and connection.cpp. Last, every honest estimator renders the built-in furnace
-// to its exact radiance (SceneRenderFurnace), and the image does not depend on the thread count;
-// and ctl-scene-nee-count's mistake is exactly the one it declares (SceneRenderControl).
+// to its exact radiance in each configuration its entry declares (SceneRenderFurnace), and the
+// image does not depend on the thread count; and ctl-scene-nee-count's mistake is exactly the
+// one it declares (SceneRenderControl). The estimators come from the registry, not from a list
+// here (a new one is tested by its registry line); one is named only where a test needs its
+// counts (pcbpt's, plain's) or checks one control's mistake (ctl-scene-nee-count against pt).
 //
-// Error budget: only SceneRenderFurnace is statistical: 15 configurations (7 estimators and 8
-// pcbpt ablations) × 3 channels t tests, each asserting p > 1e-4, so a correct renderer fails by
-// chance with probability at most 45 × 1e-4 = 4.5e-3 (Bonferroni). The seeds are fixed.
+// Error budget: only SceneRenderFurnace is statistical: N configurations (19 today: 7 estimators
+// and 12 pcbpt ablations) × 3 channels t tests, each asserting p > 1e-4, so a correct renderer
+// fails by chance with probability at most 3N × 1e-4 = 5.7e-3 (Bonferroni); the test asserts
+// 3N × 1e-4 <= 1%. The seeds are fixed.
 
 #include <gtest/gtest.h>
 
@@ -31,7 +35,7 @@
 #include "base/rng.h"
 #include "estimators/registry.h"
 #include "estimators/scene/render_replicate.h"
-#include "examples/example_nee.h"
+#include "examples/examples.h"
 #include "harness/verify/statistics.h"
 #include "integrands/scenes/bsdf.h"
 #include "integrands/scenes/built_in_scenes.h"
@@ -302,63 +306,32 @@ struct NamedEstimator {
   std::shared_ptr<const SceneEstimator> estimator;
 };
 
-// The worked example of docs/dev/extending.md "Adding a scene estimator" at its defaults (it is
-// registered in pcbench_examples only).
-NamedEstimator example_nee() {
-  const EstimatorEntry e = examples::example_nee_entry();
-  return {e.name, e.make_render(resolve_params(e.scene_params, {}, e.name))};
-}
-
-// pcbpt's ablations (estimators/scene/pcbpt.h): each element of the default design replaced by
-// its published or legacy value, the dense-cache limit (lookup=exact), and the legacy tile design
-// whole. Their strategy counts differ (light tracing
-// from M or W·H paths, K draws), and so do their renderings.
-std::vector<NamedEstimator> pcbpt_ablations(ParamText base = {}) {
-  const std::vector<std::pair<std::string, ParamText>> ablations = {
-      {"pcbpt cache=tile-first-hit lookup=tile", {{"cache", "tile-first-hit"}, {"lookup", "tile"}}},
-      {"pcbpt lookup=tile guide=all", {{"lookup", "tile"}, {"guide", "all"}}},
-      {"pcbpt floor=0", {{"floor", "0"}}},
-      {"pcbpt visibility=ignored cache_importance=connection",
-       {{"visibility", "ignored"}, {"cache_importance", "connection"}}},
-      {"pcbpt mis=resampling", {{"mis", "resampling"}}},
-      {"pcbpt mis=resampling nee=draws", {{"mis", "resampling"}, {"nee", "draws"}}},
-      {"pcbpt nee=draws", {{"nee", "draws"}}},
-      {"pcbpt lookup=exact", {{"lookup", "exact"}}},
-      {"pcbpt published",
-       {{"nee", "draws"}, {"K", "3"}, {"M", "1024"}, {"light_tracing", "pixels"}}},
-      {"pcbpt light_tracing=pixels", {{"light_tracing", "pixels"}}},
-      {"pcbpt cache_importance=weighted", {{"cache_importance", "weighted"}}},
-      {"pcbpt legacy",
-       {{"M", "1024"},
-        {"K", "8"},
-        {"nee", "draws"},
-        {"uniform_mix", "0.1"},
-        {"cache", "tile-first-hit"},
-        {"lookup", "tile"},
-        {"cache_importance", "connection"},
-        {"visibility", "ignored"},
-        {"floor", "0"},
-        {"light_tracing", "M"}}}};
-  std::vector<NamedEstimator> out;
-  for (const auto& [name, params] : ablations) {
-    ParamText all = base;
-    all.insert(params.begin(), params.end());
-    out.push_back({name, make_scene_estimator("pcbpt", all)});
+// Every scene estimator of the registry and of the examples (examples/examples.cpp, registered in
+// pcbench_examples only), as its entry declares it: this file names none of them.
+std::vector<const EstimatorEntry*> scene_entries() {
+  static const std::vector<EstimatorEntry> examples = examples::example_entries();
+  std::vector<const EstimatorEntry*> out;
+  for (const auto* table : {&estimator_registry(), &scene_estimator_registry(), &examples}) {
+    for (const EstimatorEntry& e : *table) {
+      if (e.renders_scenes()) out.push_back(&e);
+    }
   }
   return out;
 }
 
-// Every scene estimator of the registry at its defaults (pool sizes and draw counts of a typical
-// run: they set StrategyCounts), and the example (registered in pcbench_examples only).
+NamedEstimator make(const EstimatorEntry& e, const NamedParams& config) {
+  return {config.name.empty() ? e.name : e.name + " " + config.name,
+          e.make_render(resolve_params(e.scene_params, config.params, e.name))};
+}
+
+// Every scene estimator at its defaults (pool sizes and draw counts of a typical run: they set
+// StrategyCounts) and at the further parameters its entry declares (pcbpt's ablations).
 std::vector<NamedEstimator> every_estimator() {
   std::vector<NamedEstimator> out;
-  for (const auto* table : {&estimator_registry(), &scene_estimator_registry()}) {
-    for (const EstimatorEntry& e : *table) {
-      if (e.renders_scenes()) out.push_back({e.name, make_scene_estimator(e.name)});
-    }
+  for (const EstimatorEntry* e : scene_entries()) {
+    out.push_back(make(*e, {}));
+    for (const NamedParams& config : e->scene_tests.weights) out.push_back(make(*e, config));
   }
-  out.push_back(example_nee());
-  for (NamedEstimator& ablation : pcbpt_ablations()) out.push_back(std::move(ablation));
   return out;
 }
 
@@ -615,30 +588,26 @@ SceneDescription small_furnace() {
   return d;
 }
 
-// The honest estimators, with smaller pools than their defaults (an 8×8 image needs fewer).
+// The honest estimators' furnace renders, as their entries declare them (smaller pools than
+// their defaults, an 8×8 image needs fewer; pcbpt's ablations): at its defaults an entry that
+// declares none.
 std::vector<NamedEstimator> render_configs() {
-  return {{"pt", make_scene_estimator("pt")},
-          {"lt", make_scene_estimator("lt")},
-          {"bdpt", make_scene_estimator("plain")},
-          {"vc", make_scene_estimator("vc-all", {{"M", "8"}})},
-          {"lvc", make_scene_estimator("lvc", {{"M", "256"}, {"K", "4"}})},
-          {"pcbpt", make_scene_estimator("pcbpt", {{"M", "256"}, {"K", "4"}, {"tile", "4"}})},
-          example_nee()};
-}
-
-// The same with pcbpt's ablations at the small pool.
-std::vector<NamedEstimator> render_configs_with_ablations() {
-  std::vector<NamedEstimator> out = render_configs();
-  for (NamedEstimator& a :
-       pcbpt_ablations({{"M", "256"}, {"K", "4"}, {"tile", "4"}, {"grid", "4"}}))
-    out.push_back(std::move(a));
+  std::vector<NamedEstimator> out;
+  for (const EstimatorEntry* e : scene_entries()) {
+    if (e->biased) continue;
+    if (e->scene_tests.renders.empty()) out.push_back(make(*e, {}));
+    for (const NamedParams& config : e->scene_tests.renders) out.push_back(make(*e, config));
+  }
   return out;
 }
 
 TEST(SceneRenderFurnace, EveryMethodIsUnbiased) {
   const Scene scene(small_furnace());
   const Rgb reference = furnace_radiance(3);
-  for (const NamedEstimator& method : render_configs_with_ablations()) {
+  const std::vector<NamedEstimator> methods = render_configs();
+  // The error budget above: every configuration's 3 channels at p > 1e-4 stay within 1%.
+  EXPECT_LE(3 * methods.size() * 1e-4, 0.01) << methods.size() << " configurations";
+  for (const NamedEstimator& method : methods) {
     SCOPED_TRACE(method.name);
     // Per replicate and channel, the image's mean over all pixels.
     std::vector<Rgb> means;

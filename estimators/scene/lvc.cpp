@@ -13,6 +13,7 @@
 // (default 8).
 #include "estimators/scene/lvc.h"
 
+#include "estimators/family_params.h"
 #include "estimators/scene/scene_estimators.h"
 #include "estimators/scene/vertex_draws.h"
 
@@ -77,10 +78,16 @@ std::shared_ptr<const SceneEstimator> make_lvc(const LvcConfig& config) {
 
 }  // namespace scene
 
-SceneForm lvc_scene_form() {
-  return {.params = scene::lvc_params(), .make = [](const ResolvedParams& p) {
-            return scene::make_lvc(scene::read_lvc_config(p));
-          }};
+EstimatorEntry lvc_entry() {
+  EstimatorEntry entry = family_entry(
+      "lvc", "light vertex cache: K uniform draws from the pool's M light vertices",
+      {pool_size_spec(), draws_spec(), pool_mode_spec(), draw_scheme_spec()}, Selection::kUniform,
+      DrawScheme::kIndependent,
+      {.params = scene::lvc_params(),
+       .make = [](const ResolvedParams& p) { return scene::make_lvc(scene::read_lvc_config(p)); }});
+  // The furnace test's 8×8 image needs a smaller pool than a typical run.
+  entry.scene_tests.renders = {{"M=256 K=4", {{"M", "256"}, {"K", "4"}}}};
+  return entry;
 }
 
 }  // namespace pcbench

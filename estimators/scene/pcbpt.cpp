@@ -26,19 +26,18 @@
 // (mis=resampling, resampling_counts.h; docs/findings/pcbpt-equal-time.md gives the measurements
 // that keep it off by default).
 //
-// Every choice is a parameter (PcbptConfig, pcbpt.h, names the published and legacy value of
-// each; pcbpt_form.cpp declares them): M (128), K (8), uniform_mix u (0.25), cache
-// every-depth|tile-first-hit, grid (16), tile (8), lookup nearest|tile|exact, Nc (3), guide
-// first|all, cache_importance light|connection|weighted, visibility cache-point|ignored, floor
-// (0.02), nee fresh|draws, light_tracing M|pixels, mis balance|resampling. The published design
-// is nee=draws K=3 M=1024 light_tracing=pixels with the other defaults (public sources: cache
-// points at every depth from a grid of about 1/16 of the pixels per axis, K = 3, three nearest
-// cache points and a uniform share of 0.25, importance without the camera-side BSDF, occluded
-// entries scaled by 0.02; docs/guide/scenes.md, "pcbpt's parameters"); nee=fresh, K = 8, M = 128
-// and light_tracing=M are pcbench's on measurement. The legacy values (cache=tile-first-hit
-// lookup=tile cache_importance=connection floor=0 light_tracing=M nee=draws with M=1024 K=8
-// uniform_mix=0.1 tile=8) are the tile design pcbench had before, bit for bit: one cache point per
-// tile at the first hit, its P mixed with uniform, deeper vertices uniform (guide=first).
+// Every choice is a parameter (PcbptConfig, pcbpt.h; pcbpt_form.cpp declares them): M (128), K
+// (8), uniform_mix u (0.25), cache every-depth|tile-first-hit, grid (16), tile (8), lookup
+// nearest|tile|exact, Nc (3), guide first|all, cache_importance light|connection|weighted,
+// visibility cache-point|ignored, floor (0.02), nee fresh|draws, light_tracing M|pixels, mis
+// balance|resampling. Two named configurations (pcbpt_form.cpp; `pcbench list` gives their
+// parameters): `published`, the published design (public sources: cache points at every depth
+// from a grid of about 1/16 of the pixels per axis, three nearest cache points and a uniform
+// share of 0.25, importance without the camera-side BSDF, occluded entries scaled by 0.02;
+// docs/guide/scenes.md, "pcbpt's parameters"), from which the defaults depart in four choices on
+// measurement; and `legacy-tile`, the tile design pcbench had before, bit for bit: one cache
+// point per tile at the first hit, its P mixed with uniform, deeper vertices uniform
+// (guide=first).
 #include "estimators/scene/pcbpt.h"
 
 #include <oneapi/tbb/parallel_for.h>
@@ -54,7 +53,6 @@
 #include "estimators/scene/cache_mixture.h"
 #include "estimators/scene/cache_points.h"
 #include "estimators/scene/resampling_counts.h"
-#include "estimators/scene/scene_estimators.h"
 #include "estimators/scene/vertex_draws.h"
 #include "integrands/scenes/bsdf.h"
 #include "integrands/scenes/path_vertex.h"
@@ -79,9 +77,10 @@ double light_importance(const Scene& scene, const PathVertex& x, const PathVerte
 
 class ProbabilisticPass final : public ScenePass {
  public:
-  ProbabilisticPass(const RenderServices& services, const PcbptConfig& config)
+  ProbabilisticPass(const RenderServices& services, const PcbptConfig& config, PcbptFlaw flaw)
       : services_(services),
         config_(config),
+        unseen_draw_nothing_(flaw == PcbptFlaw::kUnseenCachePointsDrawNothing),
         caches_(services, config.every_depth ? config.grid : config.tile, !config.every_depth) {
     if (config_.nearest_lookup()) nearest_.emplace(caches_.points());
     if (config_.resampling_mis) {
@@ -198,8 +197,7 @@ class ProbabilisticPass final : public ScenePass {
     const double paths = m();
     return connect_drawn_vertices(
         services_, pool, vertices_, prefix, config_.draws, [&](RandomStream& draws) {
-          const std::optional<std::uint32_t> index =
-              mixture.draw(draws, config_.unseen_tiles_draw_nothing);
+          const std::optional<std::uint32_t> index = mixture.draw(draws, unseen_draw_nothing_);
           if (!index) return VertexDraw{0, 0.0};
           return VertexDraw{*index, 1.0 / (k * paths * mixture.pmf(*index))};
         });
@@ -258,7 +256,7 @@ class ProbabilisticPass final : public ScenePass {
       if (total == 0.0) {
         // The nearest lookup counts it as uniform; lookup=tile mixes zero with uniform, except in
         // the control, whose tile then draws nothing (its bias).
-        if (config_.nearest_lookup() || config_.unseen_tiles_draw_nothing) return;
+        if (config_.nearest_lookup() || unseen_draw_nothing_) return;
       }
       step.build_pmf(PoolView{.importance = q}, caches_at_[c].pmf);
       caches_at_[c].sampler.build(caches_at_[c].pmf, DiscreteSamplerKind::kAlias);
@@ -268,6 +266,7 @@ class ProbabilisticPass final : public ScenePass {
 
   const RenderServices& services_;
   PcbptConfig config_;
+  bool unseen_draw_nothing_;  // the control's flaw (PcbptFlaw, pcbpt.h)
   CachePoints caches_;
   std::optional<NearestCachePoints> nearest_;
   // Per iteration: the candidates and, per cache point, P over them and its sampler (none when it
@@ -281,7 +280,7 @@ class ProbabilisticPass final : public ScenePass {
 
 class Probabilistic final : public SceneEstimator {
  public:
-  explicit Probabilistic(const PcbptConfig& config) : config_(config) {}
+  Probabilistic(const PcbptConfig& config, PcbptFlaw flaw) : config_(config), flaw_(flaw) {}
 
   std::uint32_t pool_size(const Scene& scene) const override {
     if (!config_.light_tracing_pixels) return config_.light_paths;
@@ -294,17 +293,18 @@ class Probabilistic final : public SceneEstimator {
     return counts;
   }
   std::unique_ptr<ScenePass> begin_replicate(const RenderServices& services) const override {
-    return std::make_unique<ProbabilisticPass>(services, config_);
+    return std::make_unique<ProbabilisticPass>(services, config_, flaw_);
   }
 
  private:
   PcbptConfig config_;
+  PcbptFlaw flaw_;
 };
 
 }  // namespace
 
-std::shared_ptr<const SceneEstimator> make_pcbpt(const PcbptConfig& config) {
-  return std::make_shared<Probabilistic>(config);
+std::shared_ptr<const SceneEstimator> make_pcbpt(const PcbptConfig& config, PcbptFlaw flaw) {
+  return std::make_shared<Probabilistic>(config, flaw);
 }
 
 }  // namespace scene

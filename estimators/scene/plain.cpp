@@ -1,4 +1,4 @@
-// plain on scenes: bidirectional path tracing (BDPT).
+// plain on scenes: bidirectional path tracing (BDPT); also named bdpt (the same runs and ids).
 //
 // Estimates the image with W·H light subpaths per iteration and one camera subpath per pixel;
 // pixel i connects to light subpath i only (one fresh light path per camera sample, as plain
@@ -7,6 +7,7 @@
 // (Veach's thesis, ch. 10; Veach and Guibas 1995):
 //     <I_j> = Σ_{s,t} w_{s,t} f / p_{s,t},   counts n_{0,t} = n_{s>=1,t>=2} = 1, n_{s,1} = W·H.
 // Parameters on scenes: none.
+#include "estimators/family_params.h"
 #include "estimators/scene/scene_estimators.h"
 
 namespace pcbench {
@@ -46,10 +47,15 @@ class Bdpt final : public scene::SceneEstimator {
 
 }  // namespace
 
-SceneForm plain_scene_form() {
-  return {.params = {}, .make = [](const ResolvedParams&) {
-            return std::shared_ptr<const scene::SceneEstimator>(std::make_shared<Bdpt>());
-          }};
+EstimatorEntry plain_entry() {
+  EstimatorEntry entry =
+      family_entry("plain", "one fresh light path per camera sample, connected once (M = K = 1)",
+                   {}, Selection::kAll, DrawScheme::kEvery,
+                   {.params = {}, .make = [](const ResolvedParams&) {
+                      return std::shared_ptr<const scene::SceneEstimator>(std::make_shared<Bdpt>());
+                    }});
+  entry.aliases = {"bdpt"};  // what it is on scenes
+  return entry;
 }
 
 }  // namespace pcbench

@@ -7,6 +7,7 @@
 // those counts:
 //     <I_j> = Σ_t [ w_{0,t} f / p_{0,t} + 1/M Σ_{paths} Σ_s w_{s,t} f / p_{s,t} ] + light tracing.
 // Parameters on scenes: M, light paths per iteration (default 8).
+#include "estimators/family_params.h"
 #include "estimators/scene/scene_estimators.h"
 
 namespace pcbench {
@@ -55,11 +56,14 @@ class VertexConnection final : public scene::SceneEstimator {
 
 }  // namespace
 
-SceneForm vc_all_scene_form() {
-  return {.params = {light_paths_spec(kDefaultLightPaths)}, .make = [](const ResolvedParams& p) {
-            return std::shared_ptr<const scene::SceneEstimator>(
-                std::make_shared<VertexConnection>(static_cast<std::uint32_t>(p.integer("M"))));
-          }};
+EstimatorEntry vc_all_entry() {
+  return family_entry(
+      "vc-all", "vertex connection to every light path of a pool of M",
+      {pool_size_spec(), pool_mode_spec()}, Selection::kAll, DrawScheme::kEvery,
+      {.params = {light_paths_spec(kDefaultLightPaths)}, .make = [](const ResolvedParams& p) {
+         return std::shared_ptr<const scene::SceneEstimator>(
+             std::make_shared<VertexConnection>(static_cast<std::uint32_t>(p.integer("M"))));
+       }});
 }
 
 }  // namespace pcbench

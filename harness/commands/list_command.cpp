@@ -39,14 +39,38 @@ void print_params(std::ostream& out, const std::vector<ParamSpec>& specs) {
   }
 }
 
+Json configurations_json(const std::vector<NamedParams>& configurations) {
+  Json out = Json::array();
+  for (const NamedParams& c : configurations) {
+    out.push_back(Json{{"name", c.name}, {"params", c.params}});
+  }
+  return out;
+}
+
+void print_configurations(std::ostream& out, const std::vector<NamedParams>& configurations) {
+  for (const NamedParams& c : configurations) {
+    std::string params;
+    for (const auto& [key, value] : c.params) params += fmt::format(" -p {}={}", key, value);
+    out << fmt::format("      configuration {}:{}\n", c.name, params);
+  }
+}
+
+void print_aliases(std::ostream& out, const EstimatorEntry& e) {
+  if (e.aliases.empty()) return;
+  out << fmt::format("      also named {} (the same estimator, runs and run ids)\n",
+                     fmt::join(e.aliases, ", "));
+}
+
 Json estimator_json(const EstimatorEntry& e) {
   Json entry{{"name", e.name},
+             {"aliases", e.aliases},
              {"biased", e.biased},
              {"params", params_json(e.params)},
              {"description", e.description},
              {"analytic", e.samples_analytic()},
              {"scenes", e.renders_scenes()},
-             {"scene_params", params_json(e.scene_params)}};
+             {"scene_params", params_json(e.scene_params)},
+             {"scene_configurations", configurations_json(e.scene_configurations)}};
   if (e.declared) {
     entry["declared"] = Json{{"integrand", e.declared->integrand},
                              {"params", e.declared->integrand_params},
@@ -86,6 +110,7 @@ void print_estimators(std::ostream& out) {
   out << "estimators:\n";
   for (const EstimatorEntry& e : estimator_registry()) {
     out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
+    print_aliases(out, e);
     if (e.declared) {
       out << fmt::format("      biased on {} at {} samples x {} replicates (`verify -e {}`)\n",
                          e.declared->integrand, e.declared->samples, e.declared->replicates,
@@ -95,11 +120,13 @@ void print_estimators(std::ostream& out) {
     if (e.renders_scenes() && !e.scene_params.empty()) {
       out << "      on scenes:\n";
       print_params(out, e.scene_params);
+      print_configurations(out, e.scene_configurations);
     }
   }
   out << "scene-only estimators:\n";
   for (const EstimatorEntry& e : scene_estimator_registry()) {
     out << fmt::format("  {:<20} {}{}\n", e.name, e.biased ? "[biased] " : "", e.description);
+    print_aliases(out, e);
     if (e.declared) {
       out << fmt::format(
           "      biased on {} at {} samples per pixel x {} replicates{} (`verify -e {}`)\n",
@@ -110,6 +137,7 @@ void print_estimators(std::ostream& out) {
           e.name);
     }
     print_params(out, e.scene_params);
+    print_configurations(out, e.scene_configurations);
   }
 }
 
