@@ -8,7 +8,9 @@ Both files come from `pcbench_bench --benchmark_repetitions=N --benchmark_format
 For every benchmark in both, the medians of CPU time are compared. A benchmark is flagged when
     new_median > baseline_median * (1 + max(MIN_SLOWDOWN, NOISE_FACTOR * (cv_baseline + cv_new)))
 with cv the coefficient of variation across repetitions: a slowdown must exceed both a floor and
-several times the noise both runs showed. Prints one line per benchmark; exits 1 when any is
+several times the noise both runs showed. Benchmarks with a `ratio` counter (BM_RayRate: a
+render's rays per second over Embree's alone on the same rays) are also flagged when the median
+ratio falls below the baseline's by the same margin. Prints one line per benchmark; exits 1 when any is
 flagged, 2 on bad input.
 """
 import json
@@ -53,6 +55,8 @@ def main():
         noise = NOISE_FACTOR * (b["cv"]["cpu_time"] + n["cv"]["cpu_time"])
         allowed = 1.0 + max(MIN_SLOWDOWN, noise)
         slow = ratio > allowed
+        if "ratio" in b["median"] and "ratio" in n["median"]:
+            slow = slow or n["median"]["ratio"] * allowed < b["median"]["ratio"]
         if slow:
             flagged.append(name)
         print("%-60s %12.4g %12.4g %8.3f %8.3f%s" % (name, b["median"]["cpu_time"],

@@ -48,6 +48,14 @@ bool convex_enclosure(const SceneDescription& d, const std::vector<Vec3>& normal
   return true;
 }
 
+void log_ray(const RTCRay& ray, bool occlusion, std::vector<LoggedRay>& log) {
+  log.push_back({.origin = {ray.org_x, ray.org_y, ray.org_z},
+                 .direction = {ray.dir_x, ray.dir_y, ray.dir_z},
+                 .tnear = ray.tnear,
+                 .tfar = ray.tfar,
+                 .occlusion = occlusion});
+}
+
 }  // namespace
 
 bool is_convex_enclosure(const SceneDescription& d) {
@@ -84,6 +92,8 @@ bool Scene::intersect(const Vec3& origin, const Vec3& direction, Hit& hit,
            static_cast<float>(std::min(max_distance, 1e30)));
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  if (ray_log_ != nullptr) [[unlikely]]
+    log_ray(rh.ray, false, *ray_log_);
   rtcIntersect1(embree_->handle(), &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit.triangle = rh.hit.primID;
@@ -109,6 +119,8 @@ bool Scene::occluded(const Vec3& a, const Vec3& b) const {
   rtcInitIntersectContext(&context);
   RTCRay ray;
   fill_ray(ray, a, d, static_cast<float>(margin), static_cast<float>(1.0 - margin));
+  if (ray_log_ != nullptr) [[unlikely]]
+    log_ray(ray, true, *ray_log_);
   rtcOccluded1(embree_->handle(), &context, &ray);
   return ray.tfar == -std::numeric_limits<float>::infinity();
 }

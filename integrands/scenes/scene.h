@@ -21,6 +21,15 @@ struct Hit {
   std::uint32_t triangle = 0;
 };
 
+// One ray as Embree was given it, for measurement: benchmarks/bench_ray_rate.cpp replays a run's
+// own rays through Embree alone to measure the share of a run's time its other work takes.
+struct LoggedRay {
+  float origin[3];
+  float direction[3];
+  float tnear, tfar;
+  bool occlusion;  // rtcOccluded1 (a shadow ray), else rtcIntersect1
+};
+
 // What the scene does not need, inferred from geometry and materials (never from its name).
 struct SceneTraits {
   // Every triangle faces into one convex enclosure that holds the camera and the point lights:
@@ -61,6 +70,11 @@ class Scene {
   // Distances below this count as self-intersections: a small fraction of the scene's size.
   double epsilon() const { return epsilon_; }
 
+  // Measurement only: while a log is set, intersect and occluded append every ray they trace
+  // (null stops). Not thread-safe: set it only while one thread renders. Logging costs a
+  // predictable branch per ray when off and changes no result.
+  void log_rays(std::vector<LoggedRay>* log) const { ray_log_ = log; }
+
  private:
   SceneDescription description_;
   std::vector<Vec3> normals_;
@@ -69,6 +83,7 @@ class Scene {
   SceneTraits traits_;
   double epsilon_ = 1e-4;
   std::unique_ptr<EmbreeScene> embree_;
+  mutable std::vector<LoggedRay>* ray_log_ = nullptr;
 };
 
 }  // namespace pcbench::scene

@@ -1,0 +1,143 @@
+// The ray-rate ratio of every scene estimator (issue 27): how close a whole render iteration comes
+// to Embree tracing the same rays alone.
+//
+// BM_RayRate/<estimator>/<scene> renders one iteration at 32×32 on one thread per benchmark
+// iteration (replicates 0, 1, 2, …, as a run takes them) and counts its rays: rays_per_second.
+// Before timing, replicate 0 is rendered once with the scene's ray log on (Scene::log_rays), which
+// records every ray as Embree was given it, in order; after timing, those rays are traced again by
+// rtcIntersect1/rtcOccluded1 alone on a BVH built here over the same triangles, in the same order
+// and mix: embree_rays_per_second (thread CPU time). ratio = rays_per_second ÷
+// embree_rays_per_second is the share of a render's time that tracing would take if nothing else
+// cost anything; 1 − ratio is what the estimator's own work costs. Both rates come from one
+// benchmark run, side by side, as the targets ask.
+#include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
+
+#include <oneapi/tbb/global_control.h>
+
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include "estimators/registry.h"
+#include "estimators/scene/render_replicate.h"
+#include "integrands/scenes/built_in_scenes.h"
+#include "integrands/scenes/embree_scene.h"
+#include "integrands/scenes/scene.h"
+
+namespace pcbench::scene {
+namespace {
+
+constexpr std::uint32_t kRayRateResolution = 32;
+// The replay repeats the logged rays until it has run this long, for a stable rate.
+constexpr double kReplaySeconds = 0.2;
+
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+RTCRay embree_ray(const LoggedRay& logged) {
+  RTCRay ray{};
+  ray.org_x = logged.origin[0];
+  ray.org_y = logged.origin[1];
+  ray.org_z = logged.origin[2];
+  ray.tnear = logged.tnear;
+  ray.dir_x = logged.direction[0];
+  ray.dir_y = logged.direction[1];
+  ray.dir_z = logged.direction[2];
+  ray.tfar = logged.tfar;
+  ray.mask = 0xFFFFFFFFu;
+  return ray;
+}
+
+// Rays per CPU second of Embree alone over the logged rays, in their order.
+double embree_rate(const std::vector<Triangle>& triangles, const std::vector<LoggedRay>& log) {
+  const EmbreeScene raw(triangles);
+  std::vector<RTCRay> rays;
+  rays.reserve(log.size());
+  for (const LoggedRay& logged : log) rays.push_back(embree_ray(logged));
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  std::uint64_t traced = 0, hits = 0;
+  const double start = thread_cpu_seconds();
+  double elapsed = 0.0;
+  while (elapsed < kReplaySeconds) {
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      if (log[i].occlusion) {
+        RTCRay ray = rays[i];
+        rtcOccluded1(raw.handle(), &context, &ray);
+        hits += ray.tfar < 0.0f;
+      } else {
+        RTCRayHit rh;
+        rh.ray = rays[i];
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(raw.handle(), &context, &rh);
+        hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+      }
+    }
+    traced += rays.size();
+    elapsed = thread_cpu_seconds() - start;
+  }
+  benchmark::DoNotOptimize(hits);
+  return static_cast<double>(traced) / elapsed;
+}
+
+void BM_RayRate(benchmark::State& state, const std::string& estimator, const std::string& name) {
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  auto description = built_in_scene(name);
+  description->width = kRayRateResolution;
+  description->height = kRayRateResolution;
+  const Scene scene(std::move(*description));
+  const auto made = make_scene_estimator(estimator);
+
+  std::vector<LoggedRay> log;
+  scene.log_rays(&log);
+  const TraceCounters logged = render_replicate(scene, *made, 1, 0, 1).counters;
+  scene.log_rays(nullptr);
+  // Rays the trace counters leave out as set-up (pcbpt's cache paths), the same count each
+  // iteration: counted per iteration so that the rate covers every ray traced.
+  const std::uint64_t counted = logged.camera_rays + logged.light_rays + logged.shadow_rays;
+  if (log.size() < counted) {
+    state.SkipWithError("the ray log holds fewer rays than the trace counters");
+    return;
+  }
+  const std::uint64_t setup_rays = log.size() - counted;
+
+  TraceCounters counters;
+  std::uint32_t replicate = 0;
+  const double start = thread_cpu_seconds();
+  for (auto _ : state) {
+    const ReplicateImage out = render_replicate(scene, *made, 1, replicate++, 1);
+    counters.add(out.counters);
+    benchmark::DoNotOptimize(out.image.values.data());
+  }
+  const double render_seconds = thread_cpu_seconds() - start;
+  const auto rays = static_cast<double>(counters.camera_rays + counters.light_rays +
+                                        counters.shadow_rays + setup_rays * state.iterations());
+  const double render_rate = rays / render_seconds;
+  const double raw_rate = embree_rate(scene.description().triangles, log);
+  state.counters["rays_per_second"] = render_rate;
+  state.counters["embree_rays_per_second"] = raw_rate;
+  state.counters["ratio"] = render_rate / raw_rate;
+  state.counters["setup_rays"] = static_cast<double>(setup_rays);
+  state.counters["shadow_share"] =
+      static_cast<double>(logged.shadow_rays) / static_cast<double>(log.size());
+}
+
+void register_ray_rate_benchmarks() {
+  for (const std::string scene : {"cornell", "door-ajar"}) {
+    for (const std::string estimator : {"bdpt", "pt", "lt", "lvc", "vc-all", "pcbpt"}) {
+      benchmark::RegisterBenchmark(("BM_RayRate/" + estimator + "/" + scene).c_str(), BM_RayRate,
+                                   estimator, scene)
+          ->Unit(benchmark::kMillisecond);
+    }
+  }
+}
+
+[[maybe_unused]] const bool kRegistered = (register_ray_rate_benchmarks(), true);
+
+}  // namespace
+}  // namespace pcbench::scene
