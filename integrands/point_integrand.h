@@ -22,12 +22,14 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <memory>
 #include <vector>
 
 #include "base/params.h"
+#include "base/rng.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {
@@ -60,14 +62,33 @@ class PointWorkspace final : public PathWorkspace {
     side.pdfs.resize(old_paths + added);
     double* coords = side.coords.data() + old_paths * dims;
     double* pdfs = side.pdfs.data() + old_paths;
+    // Every path's stream starts with the block of its first counter: computed for a group of
+    // paths at once (SIMD lanes: the generator is most of an analytic sample's cost), then each
+    // path draws from its own stream exactly as RandomStream(id) would. Groups are small so that
+    // the blocks are still in L1 when read.
+    const PhiloxKey key = RandomStream::key_of(stream);
+    std::array<StreamId, kGroup> ids;
+    std::array<PhiloxCounter, kGroup> counters, blocks;
     StreamId id = stream;
-    for (std::uint32_t s = 0; s < sample_count; ++s) {
-      id.sample = first_sample + s;
-      for (std::uint32_t j = 0; j < paths_per_sample; ++j, coords += dims, ++pdfs) {
+    std::uint32_t s = 0, j = 0;
+    for (std::size_t done = 0; done < added;) {
+      const std::size_t group = std::min(kGroup, added - done);
+      for (std::size_t g = 0; g < group; ++g) {
+        id.sample = first_sample + s;
         id.path = j;
-        RandomStream rng(id);
+        ids[g] = id;
+        counters[g] = RandomStream::first_counter(id);
+        if (++j == paths_per_sample) {
+          j = 0;
+          ++s;
+        }
+      }
+      philox4x32_10_many(std::span(counters).first(group), key, std::span(blocks).first(group));
+      for (std::size_t g = 0; g < group; ++g, coords += dims, ++pdfs) {
+        RandomStream rng(ids[g], blocks[g]);
         *pdfs = sample_one(which, rng, coords, dims);
       }
+      done += group;
     }
   }
 
@@ -118,6 +139,8 @@ class PointWorkspace final : public PathWorkspace {
     std::vector<double> coords;  // path i occupies [i * dims, (i + 1) * dims)
     std::vector<double> pdfs;
   };
+
+  static constexpr std::size_t kGroup = 64;  // paths whose first blocks are computed together
 
   static std::size_t index(PathSide side) { return side == PathSide::kLight ? 0 : 1; }
 

@@ -23,6 +23,35 @@ TEST(RngPhilox, MatchesRandom123KnownAnswers) {
             (PhiloxCounter{0xd16cfe09u, 0x94fdccebu, 0x5001e420u, 0x24126ea1u}));
 }
 
+// The SIMD lanes give each counter's block exactly, for every count around the lane width (the
+// tail of a partial group included).
+TEST(RngPhilox, ManyMatchesOneByOne) {
+  const PhiloxKey key{0xa4093822u, 0x299f31d0u};
+  for (std::size_t n : {0u, 1u, 7u, 8u, 9u, 16u, 23u}) {
+    std::vector<PhiloxCounter> counters(n), out(n);
+    for (std::uint32_t i = 0; i < n; ++i) counters[i] = {i * 2654435761u, i, ~i, 0x5a5a0000u + i};
+    philox4x32_10_many(counters, key, out);
+    for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(out[i], philox4x32_10(counters[i], key)) << i;
+  }
+}
+
+// A stream handed its first block gives the numbers of the stream that computes it.
+TEST(RngStream, PrecomputedFirstBlockGivesTheSameNumbers) {
+  const StreamId id{.key = 0x123456789abcdefull,
+                    .replicate = 3,
+                    .purpose = StreamPurpose::kLightPool,
+                    .sample = 9,
+                    .path = 2};
+  const PhiloxCounter first = RandomStream::first_counter(id);
+  std::vector<PhiloxCounter> block(1);
+  philox4x32_10_many(std::span(&first, 1), RandomStream::key_of(id), block);
+  RandomStream a(id), b(id, block[0]);
+  for (int i = 0; i < 20; ++i) {
+    EXPECT_EQ(a.uniform(), b.uniform());
+    EXPECT_EQ(a.uniform_index(1000), b.uniform_index(1000));
+  }
+}
+
 TEST(RngStream, SameIdGivesSameNumbers) {
   const StreamId id{
       .key = 42, .replicate = 3, .purpose = StreamPurpose::kCameraPath, .sample = 17, .path = 5};
