@@ -133,6 +133,20 @@ const RecordedScene& recorded(const std::string& name) {
   return it->second;
 }
 
+// The timed loop of every ray benchmark: `trace(i)` for ray i of `count`, in turn and round
+// again, summing what it returns (hits, or rays blocked) so that no trace is optimised away.
+template <class Trace>
+void time_rays(benchmark::State& state, std::size_t count, Trace trace) {
+  std::size_t i = 0;
+  std::uint64_t counted = 0;
+  for (auto _ : state) {
+    counted += trace(i);
+    if (++i == count) i = 0;
+  }
+  benchmark::DoNotOptimize(counted);
+  state.SetItemsProcessed(state.iterations());
+}
+
 // The raw rate: an EmbreeScene of our own over the same float triangles, and the recorded rays
 // in float, ready for rtcIntersect1 / rtcOccluded1.
 
@@ -170,19 +184,14 @@ void BM_EmbreeRawClosestHit(benchmark::State& state, const std::string& name) {
   }
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  std::size_t i = 0;
-  std::uint64_t hits = 0;
-  for (auto _ : state) {
+  time_rays(state, rays.size(), [&](std::size_t i) {
     RTCRayHit rh;
     rh.ray = rays[i];
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(raw.handle(), &context, &rh);
-    hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-    if (++i == rays.size()) i = 0;
-  }
-  benchmark::DoNotOptimize(hits);
-  state.SetItemsProcessed(state.iterations());
+    return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  });
   add_ray_counters(state, r);
 }
 
@@ -198,16 +207,11 @@ void BM_EmbreeRawOcclusion(benchmark::State& state, const std::string& name) {
   }
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  std::size_t i = 0;
-  std::uint64_t blocked = 0;
-  for (auto _ : state) {
+  time_rays(state, rays.size(), [&](std::size_t i) {
     RTCRay ray = rays[i];
     rtcOccluded1(raw.handle(), &context, &ray);
-    blocked += ray.tfar < 0.0f;
-    if (++i == rays.size()) i = 0;
-  }
-  benchmark::DoNotOptimize(blocked);
-  state.SetItemsProcessed(state.iterations());
+    return ray.tfar < 0.0f;
+  });
   add_ray_counters(state, r);
 }
 
@@ -220,9 +224,7 @@ void BM_EmbreeRawClosestHitFilled(benchmark::State& state, const std::string& na
   const auto tnear = static_cast<float>(r.scene->epsilon());
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  std::size_t i = 0;
-  std::uint64_t hits = 0;
-  for (auto _ : state) {
+  time_rays(state, r.closest.size(), [&](std::size_t i) {
     const ClosestRay& c = r.closest[i];
     RTCRayHit rh{};
     rh.ray.org_x = static_cast<float>(c.origin.x);
@@ -236,39 +238,26 @@ void BM_EmbreeRawClosestHitFilled(benchmark::State& state, const std::string& na
     rh.ray.mask = 0xFFFFFFFFu;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(raw.handle(), &context, &rh);
-    hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-    if (++i == r.closest.size()) i = 0;
-  }
-  benchmark::DoNotOptimize(hits);
-  state.SetItemsProcessed(state.iterations());
+    return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  });
 }
 
 // The same closest-hit rays through our wrapper (double in, float to Embree, distance recomputed).
 void BM_SceneIntersect(benchmark::State& state, const std::string& name) {
   const RecordedScene& r = recorded(name);
-  std::size_t i = 0;
-  std::uint64_t hits = 0;
-  for (auto _ : state) {
+  time_rays(state, r.closest.size(), [&](std::size_t i) {
     Hit hit;
-    hits += r.scene->intersect(r.closest[i].origin, r.closest[i].direction, hit);
+    const bool hits = r.scene->intersect(r.closest[i].origin, r.closest[i].direction, hit);
     benchmark::DoNotOptimize(hit);
-    if (++i == r.closest.size()) i = 0;
-  }
-  benchmark::DoNotOptimize(hits);
-  state.SetItemsProcessed(state.iterations());
+    return hits;
+  });
 }
 
 // The same shadow rays through Scene::occluded (double end points, normalisation in double).
 void BM_SceneOccluded(benchmark::State& state, const std::string& name) {
   const RecordedScene& r = recorded(name);
-  std::size_t i = 0;
-  std::uint64_t blocked = 0;
-  for (auto _ : state) {
-    blocked += r.scene->occluded(r.shadow[i].a, r.shadow[i].b);
-    if (++i == r.shadow.size()) i = 0;
-  }
-  benchmark::DoNotOptimize(blocked);
-  state.SetItemsProcessed(state.iterations());
+  time_rays(state, r.shadow.size(),
+            [&](std::size_t i) { return r.scene->occluded(r.shadow[i].a, r.shadow[i].b); });
 }
 
 void register_ray_benchmarks() {
@@ -284,40 +273,47 @@ void register_ray_benchmarks() {
   }
 }
 
-// Subpaths on cornell at its max_length (5). items_per_second: subpaths.
-void BM_CameraSubpath(benchmark::State& state) {
+// Subpaths on cornell at its max_length (5), the n-th from `trace(scene, n, max_length, path,
+// counters)`. items_per_second: subpaths; rays_per_second: the rays of the kind `rays` counts.
+template <class Trace>
+void time_subpaths(benchmark::State& state, Trace trace, std::uint64_t TraceCounters::*rays) {
   const auto scene = make_scene("cornell");
   const std::uint32_t max_length = scene->description().max_length;
   std::vector<PathVertex> path;
   TraceCounters counters;
   std::uint32_t n = 0;
   for (auto _ : state) {
-    RandomStream rng({.key = 2, .purpose = StreamPurpose::kCameraPath, .sample = n});
-    const std::uint32_t pixel = n++ % (kResolution * kResolution);
-    trace_camera_path(*scene, pixel % kResolution + rng.uniform(),
-                      pixel / kResolution + rng.uniform(), rng, max_length, path, counters);
+    trace(*scene, n++, max_length, path, counters);
     benchmark::DoNotOptimize(path.data());
   }
   state.SetItemsProcessed(state.iterations());
   state.counters["rays_per_second"] =
-      benchmark::Counter(static_cast<double>(counters.camera_rays), benchmark::Counter::kIsRate);
+      benchmark::Counter(static_cast<double>(counters.*rays), benchmark::Counter::kIsRate);
+}
+
+void BM_CameraSubpath(benchmark::State& state) {
+  time_subpaths(
+      state,
+      [](const Scene& scene, std::uint32_t n, std::uint32_t max_length,
+         std::vector<PathVertex>& path, TraceCounters& counters) {
+        RandomStream rng({.key = 2, .purpose = StreamPurpose::kCameraPath, .sample = n});
+        const std::uint32_t pixel = n % (kResolution * kResolution);
+        trace_camera_path(scene, pixel % kResolution + rng.uniform(),
+                          pixel / kResolution + rng.uniform(), rng, max_length, path, counters);
+      },
+      &TraceCounters::camera_rays);
 }
 BENCHMARK(BM_CameraSubpath);
 
 void BM_LightSubpath(benchmark::State& state) {
-  const auto scene = make_scene("cornell");
-  const std::uint32_t max_length = scene->description().max_length;
-  std::vector<PathVertex> path;
-  TraceCounters counters;
-  std::uint32_t n = 0;
-  for (auto _ : state) {
-    RandomStream rng({.key = 3, .purpose = StreamPurpose::kLightPool, .path = n++});
-    trace_light_path(*scene, rng, max_length, path, counters);
-    benchmark::DoNotOptimize(path.data());
-  }
-  state.SetItemsProcessed(state.iterations());
-  state.counters["rays_per_second"] =
-      benchmark::Counter(static_cast<double>(counters.light_rays), benchmark::Counter::kIsRate);
+  time_subpaths(
+      state,
+      [](const Scene& scene, std::uint32_t n, std::uint32_t max_length,
+         std::vector<PathVertex>& path, TraceCounters& counters) {
+        RandomStream rng({.key = 3, .purpose = StreamPurpose::kLightPool, .path = n});
+        trace_light_path(scene, rng, max_length, path, counters);
+      },
+      &TraceCounters::light_rays);
 }
 BENCHMARK(BM_LightSubpath);
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "base/params.h"
+#include "base/rng.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {
@@ -42,6 +43,34 @@ class GenzShape {
   int camera_dims_;
   double sharpness_;
   double center_;
+};
+
+// A Genz family sampled coordinate by coordinate from one density on [0,1], light side and
+// camera side alike: p(x) = Π_i p(x_i), likewise p(y). Derived gives the density
+// (`coordinate_pdf(t)`) and its inverse CDF (`sample_coordinate(u)`).
+template <class Derived>
+class GenzProductDensity : public GenzShape {
+ public:
+  using GenzShape::GenzShape;
+
+  double sample_light(RandomStream& rng, double* x) const { return sample(rng, x, light_dims_); }
+  double sample_camera(RandomStream& rng, double* y) const { return sample(rng, y, camera_dims_); }
+  double light_pdf(const double* x) const { return pdf(x, light_dims_); }
+  double camera_pdf(const double* y) const { return pdf(y, camera_dims_); }
+
+ private:
+  const Derived& density() const { return static_cast<const Derived&>(*this); }
+
+  double sample(RandomStream& rng, double* z, int dims) const {
+    for (int i = 0; i < dims; ++i) z[i] = density().sample_coordinate(rng.uniform());
+    return pdf(z, dims);
+  }
+
+  double pdf(const double* z, int dims) const {
+    double product = 1.0;
+    for (int i = 0; i < dims; ++i) product *= density().coordinate_pdf(z[i]);
+    return product;
+  }
 };
 
 // genz-gaussian: f(z) = exp(-Σ_i s² (z_i - c)²).

@@ -13,7 +13,7 @@ double laplace_mass(double k, double c) {
 }  // namespace
 
 GenzContinuous::GenzContinuous(const ResolvedParams& params)
-    : GenzShape(params),
+    : GenzProductDensity(params),
       rate_(0.5 * sharpness_),
       left_mass_(-std::expm1(-rate_ * center_) / rate_),
       mass_(laplace_mass(rate_, center_)) {}

@@ -26,13 +26,12 @@
 #include <vector>
 
 #include "base/params.h"
-#include "base/rng.h"
 #include "integrands/genz.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {
 
-class GenzContinuous : public GenzShape {
+class GenzContinuous : public GenzProductDensity<GenzContinuous> {
  public:
   static std::vector<ParamSpec> params() { return GenzShape::params("5", "0.4"); }
   explicit GenzContinuous(const ResolvedParams& params);
@@ -45,10 +44,8 @@ class GenzContinuous : public GenzShape {
     return std::exp(-sharpness_ * distance);
   }
 
-  double sample_light(RandomStream& rng, double* x) const { return sample(rng, x, light_dims_); }
-  double sample_camera(RandomStream& rng, double* y) const { return sample(rng, y, camera_dims_); }
-  double light_pdf(const double* x) const { return pdf(x, light_dims_); }
-  double camera_pdf(const double* y) const { return pdf(y, camera_dims_); }
+  // The density and its inverse CDF, for GenzProductDensity.
+  friend class GenzProductDensity<GenzContinuous>;
 
  private:
   double coordinate_pdf(double t) const {
@@ -62,17 +59,6 @@ class GenzContinuous : public GenzShape {
                          ? center_ + std::log1p(rate_ * m + std::expm1(-rate_ * center_)) / rate_
                          : center_ - std::log1p(-rate_ * (m - left_mass_)) / rate_;
     return std::clamp(t, 0.0, 1.0);
-  }
-
-  double sample(RandomStream& rng, double* z, int dims) const {
-    for (int i = 0; i < dims; ++i) z[i] = sample_coordinate(rng.uniform());
-    return pdf(z, dims);
-  }
-
-  double pdf(const double* z, int dims) const {
-    double product = 1.0;
-    for (int i = 0; i < dims; ++i) product *= coordinate_pdf(z[i]);
-    return product;
   }
 
   double rate_;       // λ = s/2

@@ -9,7 +9,7 @@
 namespace pcbench {
 
 GenzDiscontinuous::GenzDiscontinuous(const ResolvedParams& params)
-    : GenzShape(params), rate_(0.5 * sharpness_), mass_(-std::expm1(-rate_)) {
+    : GenzProductDensity(params), rate_(0.5 * sharpness_), mass_(-std::expm1(-rate_)) {
   // The largest value, exp(s d) at z = (1, ..., 1) minus the cut, must be a double.
   if (!(sharpness_ * dims() < 700.0)) {
     throw InputError(fmt::format(

@@ -27,13 +27,12 @@
 #include <vector>
 
 #include "base/params.h"
-#include "base/rng.h"
 #include "integrands/genz.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {
 
-class GenzDiscontinuous : public GenzShape {
+class GenzDiscontinuous : public GenzProductDensity<GenzDiscontinuous> {
  public:
   static std::vector<ParamSpec> params() { return GenzShape::params("4", "0.6"); }
   explicit GenzDiscontinuous(const ResolvedParams& params);
@@ -41,33 +40,17 @@ class GenzDiscontinuous : public GenzShape {
 
   double f(const double* x, const double* y) const {
     if (!(x[0] < center_ && y[0] < center_)) return 0.0;
-    double sum = 0.0;
-    for (int i = 0; i < light_dims_; ++i) sum += x[i];
-    for (int i = 0; i < camera_dims_; ++i) sum += y[i];
-    return std::exp(sharpness_ * sum);
+    return std::exp(sharpness_ * coordinate_sum(x, y));
   }
 
-  double sample_light(RandomStream& rng, double* x) const { return sample(rng, x, light_dims_); }
-  double sample_camera(RandomStream& rng, double* y) const { return sample(rng, y, camera_dims_); }
-  double light_pdf(const double* x) const { return pdf(x, light_dims_); }
-  double camera_pdf(const double* y) const { return pdf(y, camera_dims_); }
+  // The density and its inverse CDF, for GenzProductDensity.
+  friend class GenzProductDensity<GenzDiscontinuous>;
 
  private:
   double coordinate_pdf(double t) const { return rate_ * std::exp(-rate_ * (1.0 - t)) / mass_; }
 
   double sample_coordinate(double u) const {
     return std::clamp(1.0 + std::log1p(-(1.0 - u) * mass_) / rate_, 0.0, 1.0);
-  }
-
-  double sample(RandomStream& rng, double* z, int dims) const {
-    for (int i = 0; i < dims; ++i) z[i] = sample_coordinate(rng.uniform());
-    return pdf(z, dims);
-  }
-
-  double pdf(const double* z, int dims) const {
-    double product = 1.0;
-    for (int i = 0; i < dims; ++i) product *= coordinate_pdf(z[i]);
-    return product;
   }
 
   double rate_;  // λ = s/2

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -27,41 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-std::vector<double> parse_numbers(const std::string& text, const char* option) {
-  std::vector<double> values;
-  for (const std::string& part : split_commas(text)) {
-    double value = 0.0;
-    const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
-    if (part.empty() || error != std::errc() || end != part.data() + part.size() ||
-        !std::isfinite(value)) {
-      throw InputError(
-          fmt::format("command line: {} '{}': '{}' is not a finite number", option, text, part));
-    }
-    values.push_back(value);
-  }
-  return values;
-}
-
-Image constant_image(const Image& like, const std::string& text) {
-  const std::vector<double> v = parse_numbers(text, "--constant");
-  if (v.size() != 1 && v.size() != kImageChannels) {
-    throw InputError(
-        fmt::format("command line: --constant '{}': give V (every channel) or R,G,B", text));
-  }
-  Image image(like.width, like.height);
-  for (std::size_t i = 0; i < image.values.size(); ++i) {
-    image.values[i] = v.size() == 1 ? v[0] : v[i % kImageChannels];
-  }
-  return image;
-}
-
-void check_same_size(const Image& image, const Image& like, const std::string& what) {
-  if (image.width != like.width || image.height != like.height) {
-    throw InputError(fmt::format("command line: {} is {}x{} but the --images set is {}x{}", what,
-                                 image.width, image.height, like.width, like.height));
-  }
-}
 
 Json files_json(const ImageSet& set) {
   Json files = Json::array();
@@ -127,24 +91,6 @@ std::string rounding_formats(const ImageSet& set, const ImageSet* other,
   return join_names(parts, "; ");
 }
 
-}  // namespace
-
-CropWindow parse_crop(const std::string& text) {
-  const std::vector<double> v = parse_numbers(text, "--crop");
-  const bool integers =
-      std::all_of(v.begin(), v.end(), [](double x) { return x >= 0 && x == std::floor(x); });
-  if (v.size() != 4 || !integers || v[2] < 1 || v[3] < 1 || v[0] > 1e6 || v[1] > 1e6 ||
-      v[2] > 1e6 || v[3] > 1e6) {
-    throw InputError(fmt::format(
-        "command line: --crop '{}': give X,Y,W,H, the top-left pixel and a size of at least 1",
-        text));
-  }
-  return {static_cast<std::uint32_t>(v[0]), static_cast<std::uint32_t>(v[1]),
-          static_cast<std::uint32_t>(v[2]), static_cast<std::uint32_t>(v[3])};
-}
-
-namespace {
-
 // The request's own checks, before any file is read.
 void check_request(const ImageSetRequest& request, const SessionOptions& options) {
   const int references = static_cast<int>(request.against.has_value()) +
@@ -166,61 +112,27 @@ void check_request(const ImageSetRequest& request, const SessionOptions& options
   }
 }
 
-// The set and what it is tested against, read and checked.
-struct ImageSetInput {
-  ImageSet set;
-  std::optional<ImageSet> other;  // --against
-  std::optional<Image> reference, reference_stderr;
-  std::string reference_pixel_type = "float";
-  Against against;
-  double quantisation = 0.0;  // the worst-case quantisation bias of the files' pixel formats
-};
-
-// --reference-image and its --reference-stderr into `input`.
-void read_reference(const ImageSetRequest& request, ImageSetInput& input) {
-  const Image& like = input.set.images.front();
-  ImageFileFacts facts;
-  input.reference = read_image_file(*request.reference_image, request.read, &facts);
-  check_same_size(*input.reference, like, *request.reference_image);
-  input.quantisation = std::max(input.quantisation, worst_quantisation_bias(facts.pixel_type));
-  input.reference_pixel_type = facts.pixel_type;
-  input.against = {"reference",
-                   *request.reference_image,
-                   {{"kind", "reference"}, {"file", *request.reference_image}},
-                   "reference"};
-  if (request.reference_stderr) {
-    input.reference_stderr = read_image_file(*request.reference_stderr, request.read);
-    check_same_size(*input.reference_stderr, like, *request.reference_stderr);
-    input.against.json["stderr_file"] = *request.reference_stderr;
-  } else {
-    input.against.json["stderr_file"] = nullptr;
+// What `input` is tested against, from the option that named it.
+Against against_of(const ImageSetRequest& request, const ImageSetInput& input) {
+  if (input.other) {
+    return {"images",
+            *request.against,
+            {{"kind", "images"}, {"files", files_json(*input.other)}},
+            "against"};
   }
-}
-
-ImageSetInput read_input(const ImageSetRequest& request) {
-  ImageSetInput input;
-  input.set = read_image_set(request.images, "--images", request.read);
-  input.quantisation = input.set.quantisation_bias;
-  const Image& like = input.set.images.front();
-  if (request.against) {
-    input.other = read_image_set(*request.against, "--against", request.read);
-    check_same_size(input.other->images.front(), like, "the --against set");
-    input.quantisation = std::max(input.quantisation, input.other->quantisation_bias);
-    input.against = {"images",
-                     *request.against,
-                     {{"kind", "images"}, {"files", files_json(*input.other)}},
-                     "against"};
-  } else if (request.reference_image) {
-    read_reference(request, input);
-  } else {
-    input.reference = constant_image(like, *request.constant);
-    input.against = {
-        "constant",
-        "constant " + *request.constant,
-        {{"kind", "constant"}, {"value", parse_numbers(*request.constant, "--constant")}},
-        "exact"};
+  if (request.reference_image) {
+    Against against{"reference",
+                    *request.reference_image,
+                    {{"kind", "reference"}, {"file", *request.reference_image}},
+                    "reference"};
+    against.json["stderr_file"] =
+        request.reference_stderr ? Json(*request.reference_stderr) : Json(nullptr);
+    return against;
   }
-  return input;
+  return {"constant",
+          "constant " + *request.constant,
+          {{"kind", "constant"}, {"value", input.constant}},
+          "exact"};
 }
 
 // The family: the comparison and its self-checks, one per scale, decided together.
@@ -229,8 +141,8 @@ struct TestedFamily {
   std::vector<Comparison> comparisons;  // the comparison first, then the self-checks
 };
 
-TestedFamily test_family(const ImageSetInput& input, const ImageSetRequest& request,
-                         const SessionOptions& options) {
+TestedFamily test_family(const ImageSetInput& input, const Against& against,
+                         const ImageSetRequest& request, const SessionOptions& options) {
   const Image& like = input.set.images.front();
   const std::size_t scales = pyramid_block_sizes(like.width, like.height, request.tile).size();
   const PyramidOptions blocks{.tile = request.tile,
@@ -248,16 +160,16 @@ TestedFamily test_family(const ImageSetInput& input, const ImageSetRequest& requ
   const std::vector<BlockSelfCheck> checks =
       pyramid_self_checks(tested.result, input.set.images, test);
 
-  const std::string label = "images vs " + input.against.label;
+  const std::string label = "images vs " + against.label;
   const std::size_t count = input.set.images.size();
   std::vector<Verdict> verdicts = {pyramid_verdict(tested.result, requirements, request.expect)};
-  tested.comparisons = {pyramid_comparison(tested.result, requirements, "images", input.against.id,
-                                           label, "images", count, request.expect)};
+  tested.comparisons = {pyramid_comparison(tested.result, requirements, "images", against.id, label,
+                                           "images", count, request.expect)};
   for (const BlockSelfCheck& check : checks) {
     verdicts.push_back(pyramid_verdict(check.result, requirements, "biased"));
     tested.comparisons.push_back(pyramid_comparison(check.result, requirements, "images+injected",
-                                                    input.against.id, label + check.label(),
-                                                    "images", count, "biased"));
+                                                    against.id, label + check.label(), "images",
+                                                    count, "biased"));
   }
   std::vector<Verdict*> family;
   for (Verdict& v : verdicts) family.push_back(&v);
@@ -347,7 +259,7 @@ std::optional<Json> write_images(const fs::path& folder, const PixelMaps& maps, 
 
 // The report's image_sets: the inputs, the pixel test and the image files.
 Json image_sets_json(const ImageSetRequest& request, const ImageSetInput& input,
-                     const PixelTestSummary& pixels, const Json& files) {
+                     const Against& against, const PixelTestSummary& pixels, const Json& files) {
   const Image& like = input.set.images.front();
   Json crop = nullptr;
   if (request.read.crop) {
@@ -359,7 +271,7 @@ Json image_sets_json(const ImageSetRequest& request, const ImageSetInput& input,
   return Json{
       {"images", request.images},
       {"files", files_json(input.set)},
-      {"against", input.against.json},
+      {"against", against.json},
       {"width", like.width},
       {"height", like.height},
       {"channels", request.read.channels},
@@ -381,8 +293,9 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
                                std::ostream& out, std::ostream& err) {
   check_request(request, options);
   // Everything is read and checked before anything is written.
-  const ImageSetInput input = read_input(request);
-  TestedFamily tested = test_family(input, request, options);
+  const ImageSetInput input = read_image_set_input(request);
+  const Against against = against_of(request, input);
+  TestedFamily tested = test_family(input, against, request, options);
   warn_about_values(input.set, err);
   if (input.other) warn_about_values(*input.other, err);
 
@@ -394,7 +307,7 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
 
   ReportSections sections;
   sections.comparisons = comparisons_json(tested.comparisons);
-  sections.image_sets = image_sets_json(request, input, maps.pixels, *files);
+  sections.image_sets = image_sets_json(request, input, against, maps.pixels, *files);
   for (const Comparison& c : tested.comparisons) {
     out << fmt::format("{}: {}{} ({})\n", c.estimator, c.result,
                        c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect),

@@ -14,27 +14,11 @@
 #pragma once
 
 #include <iosfwd>
-#include <optional>
-#include <string>
 
 #include "harness/plan/image_set.h"
 #include "harness/session/session.h"
 
 namespace pcbench {
-
-struct ImageSetRequest {
-  std::string images;                                // --images SET
-  std::optional<std::string> against = {};           // --against SET2
-  std::optional<std::string> reference_image = {};   // --reference-image FILE
-  std::optional<std::string> reference_stderr = {};  // --reference-stderr FILE
-  std::optional<std::string> constant = {};          // --constant V or R,G,B
-  ImageReadOptions read = {};                        // --channels, --crop
-  std::uint32_t tile = 8;                            // --tile
-  std::string expect = "consistent";                 // --expect
-};
-
-// Parses --crop X,Y,W,H. Throws InputError.
-CropWindow parse_crop(const std::string& text);
 
 // Reads, tests, writes the report and prints the verdict. Bad input throws InputError before
 // anything is written. Exit 0 when the comparison comes out as expected and the self-check is

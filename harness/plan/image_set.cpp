@@ -7,6 +7,7 @@
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -61,6 +62,55 @@ std::uint64_t content_hash(const Image& image) {
   const std::string_view bytes(reinterpret_cast<const char*>(image.values.data()),
                                image.values.size() * sizeof(double));
   return fnv1a(kFnvOffset, bytes);
+}
+
+// A comma list of finite numbers for `option` (--crop, --constant).
+std::vector<double> parse_numbers(const std::string& text, const char* option) {
+  std::vector<double> values;
+  for (const std::string& part : split_commas(text)) {
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
+    if (part.empty() || error != std::errc() || end != part.data() + part.size() ||
+        !std::isfinite(value)) {
+      throw InputError(
+          fmt::format("command line: {} '{}': '{}' is not a finite number", option, text, part));
+    }
+    values.push_back(value);
+  }
+  return values;
+}
+
+Image constant_image(const Image& like, const std::vector<double>& v, const std::string& text) {
+  if (v.size() != 1 && v.size() != kImageChannels) {
+    throw InputError(
+        fmt::format("command line: --constant '{}': give V (every channel) or R,G,B", text));
+  }
+  Image image(like.width, like.height);
+  for (std::size_t i = 0; i < image.values.size(); ++i) {
+    image.values[i] = v.size() == 1 ? v[0] : v[i % kImageChannels];
+  }
+  return image;
+}
+
+void check_same_size(const Image& image, const Image& like, const std::string& what) {
+  if (image.width != like.width || image.height != like.height) {
+    throw InputError(fmt::format("command line: {} is {}x{} but the --images set is {}x{}", what,
+                                 image.width, image.height, like.width, like.height));
+  }
+}
+
+// --reference-image and its --reference-stderr into `input`.
+void read_reference(const ImageSetRequest& request, ImageSetInput& input) {
+  const Image& like = input.set.images.front();
+  ImageFileFacts facts;
+  input.reference = read_image_file(*request.reference_image, request.read, &facts);
+  check_same_size(*input.reference, like, *request.reference_image);
+  input.quantisation = std::max(input.quantisation, worst_quantisation_bias(facts.pixel_type));
+  input.reference_pixel_type = facts.pixel_type;
+  if (request.reference_stderr) {
+    input.reference_stderr = read_image_file(*request.reference_stderr, request.read);
+    check_same_size(*input.reference_stderr, like, *request.reference_stderr);
+  }
 }
 
 }  // namespace
@@ -207,6 +257,38 @@ ImageSet read_image_set(const std::string& set, const std::string& option,
     out.files.push_back(std::move(facts));
   }
   return out;
+}
+
+CropWindow parse_crop(const std::string& text) {
+  const std::vector<double> v = parse_numbers(text, "--crop");
+  const bool integers =
+      std::all_of(v.begin(), v.end(), [](double x) { return x >= 0 && x == std::floor(x); });
+  if (v.size() != 4 || !integers || v[2] < 1 || v[3] < 1 || v[0] > 1e6 || v[1] > 1e6 ||
+      v[2] > 1e6 || v[3] > 1e6) {
+    throw InputError(fmt::format(
+        "command line: --crop '{}': give X,Y,W,H, the top-left pixel and a size of at least 1",
+        text));
+  }
+  return {static_cast<std::uint32_t>(v[0]), static_cast<std::uint32_t>(v[1]),
+          static_cast<std::uint32_t>(v[2]), static_cast<std::uint32_t>(v[3])};
+}
+
+ImageSetInput read_image_set_input(const ImageSetRequest& request) {
+  ImageSetInput input;
+  input.set = read_image_set(request.images, "--images", request.read);
+  input.quantisation = input.set.quantisation_bias;
+  const Image& like = input.set.images.front();
+  if (request.against) {
+    input.other = read_image_set(*request.against, "--against", request.read);
+    check_same_size(input.other->images.front(), like, "the --against set");
+    input.quantisation = std::max(input.quantisation, input.other->quantisation_bias);
+  } else if (request.reference_image) {
+    read_reference(request, input);
+  } else {
+    input.constant = parse_numbers(*request.constant, "--constant");
+    input.reference = constant_image(like, input.constant, *request.constant);
+  }
+  return input;
 }
 
 }  // namespace pcbench

@@ -1,5 +1,7 @@
 // Sets of replicate images from any renderer, read for `pcbench verify --images`: OpenEXR,
-// Radiance HDR (RGBE) and PFM through OpenImageIO.
+// Radiance HDR (RGBE) and PFM through OpenImageIO; and the whole input of that command (the set
+// and what it is tested against), read and checked. The tests are the command's
+// (harness/commands/image_set_verify.h).
 //
 // A set is R >= 2 independent renders of one scene (one seed each). Everything that would make
 // the tile tests meaningless is bad input here, before anything is written: unreadable or
@@ -67,5 +69,36 @@ Image read_image_file(const std::string& path, const ImageReadOptions& options,
 // images, different sizes, or two files with identical pixels (named both).
 ImageSet read_image_set(const std::string& set, const std::string& option,
                         const ImageReadOptions& options, std::size_t min_images = 2);
+
+// `verify --images` as asked.
+struct ImageSetRequest {
+  std::string images;                                // --images SET
+  std::optional<std::string> against = {};           // --against SET2
+  std::optional<std::string> reference_image = {};   // --reference-image FILE
+  std::optional<std::string> reference_stderr = {};  // --reference-stderr FILE
+  std::optional<std::string> constant = {};          // --constant V or R,G,B
+  ImageReadOptions read = {};                        // --channels, --crop
+  std::uint32_t tile = 8;                            // --tile
+  std::string expect = "consistent";                 // --expect
+};
+
+// Parses --crop X,Y,W,H. Throws InputError.
+CropWindow parse_crop(const std::string& text);
+
+// The set and what it is tested against, read and checked.
+struct ImageSetInput {
+  ImageSet set;
+  std::optional<ImageSet> other = {};  // --against
+  // --reference-image with its --reference-stderr, or --constant's image.
+  std::optional<Image> reference = {}, reference_stderr = {};
+  std::string reference_pixel_type = "float";
+  std::vector<double> constant = {};  // --constant's values (one, or R, G, B)
+  double quantisation = 0.0;  // the worst-case quantisation bias of the files' pixel formats
+};
+
+// Reads `request`'s set and the one thing it is tested against (--against, --reference-image
+// or --constant; the request says exactly one), all of one size. Throws InputError naming the
+// file or option.
+ImageSetInput read_image_set_input(const ImageSetRequest& request);
 
 }  // namespace pcbench

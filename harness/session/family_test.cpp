@@ -83,12 +83,6 @@ void escalate_run(RunRecord& record, double stage_alpha, bool& interrupted,
                   std::deque<RunPlan>& later_plans, const RunServices& services) {
   for (std::uint32_t stage = 2; stage <= kMaxStages && !interrupted && wants_escalation(record);
        ++stage) {
-    const StageRecord earlier{.id = record.plan->id,
-                              .samples = record.plan->samples,
-                              .p_value = record.verdict->p_value,
-                              .alpha = record.verdict->alpha,
-                              .result = record.verdict->result,
-                              .reason = record.verdict->reason};
     later_plans.push_back(with_samples(*record.plan, record.plan->samples * kEscalationFactor));
     services.progress.add_work(later_plans.back().total_samples(), 1);
     RunRecord next = execute_and_test(later_plans.back(), interrupted, services);
@@ -97,7 +91,8 @@ void escalate_run(RunRecord& record, double stage_alpha, bool& interrupted,
       decide_family(alone, stage_alpha);
     }
     next.earlier_stages = std::move(record.earlier_stages);
-    next.earlier_stages.push_back(earlier);
+    record.earlier_stages.clear();
+    next.earlier_stages.push_back(std::move(record));
     record = std::move(next);
   }
 }

@@ -91,15 +91,16 @@ Json largest_abs(const std::vector<double>& largest) {
 }
 
 // The earlier stages of an escalated run (empty when it ran once).
-Json escalation_json(const std::vector<StageRecord>& stages) {
+Json escalation_json(const std::vector<RunRecord>& stages) {
   Json out = Json::array();
-  for (const StageRecord& s : stages) {
-    out.push_back({{"id", s.id},
-                   {"samples", s.samples},
-                   {"p_value", NumberWriter::optional_number(s.p_value)},
-                   {"alpha", s.alpha},
-                   {"result", s.result},
-                   {"reason", s.reason}});
+  for (const RunRecord& stage : stages) {
+    const Verdict& v = *stage.verdict;
+    out.push_back({{"id", stage.plan->id},
+                   {"samples", stage.plan->samples},
+                   {"p_value", NumberWriter::optional_number(v.p_value)},
+                   {"alpha", v.alpha},
+                   {"result", v.result},
+                   {"reason", v.reason}});
   }
   return out;
 }

@@ -222,8 +222,8 @@ void print_summary(const std::vector<RunRecord>& records, std::ostream& out) {
     std::string why = v != nullptr ? v->result + ": " + v->reason : record.result.error;
     if (!record.earlier_stages.empty()) {
       std::string budgets;
-      for (const StageRecord& stage : record.earlier_stages) {
-        budgets += fmt::format("{} ({}) -> ", stage.samples, stage.result);
+      for (const RunRecord& stage : record.earlier_stages) {
+        budgets += fmt::format("{} ({}) -> ", stage.plan->samples, stage.verdict->result);
       }
       why = fmt::format("escalated {}{} samples; {}", budgets, record.plan->samples, why);
     }

@@ -1,5 +1,6 @@
 // A tested run as the session keeps it: its plan, its result, the figures and the verdict the
-// verification layer computed from it, and for an escalated run the stages before the last.
+// verification layer computed from it. An escalated run is the record of its last stage, which
+// keeps the records of the stages before it: each is a tested run too, with fewer samples.
 // The report (harness/session/report.h) writes these; it does not define them.
 #pragma once
 
@@ -16,19 +17,11 @@
 
 namespace pcbench {
 
-// An earlier stage of an escalated run: its budget and what its test said.
-struct StageRecord {
-  std::string id = {};
-  std::uint64_t samples = 0;
-  double p_value = 0.0;
-  double alpha = 0.0;  // the threshold the stage's (adjusted) p-value was compared with
-  std::string result = {};
-  std::string reason = {};
-};
-
 struct RunRecord {
   const RunPlan* plan = nullptr;
-  std::vector<StageRecord> earlier_stages = {};  // sequential escalation, first stage first
+  // Sequential escalation: the earlier stages, first stage first (each with a verdict, which
+  // is what escalated it, and no earlier stages of its own).
+  std::vector<RunRecord> earlier_stages = {};
   RunResult result;
   Aggregates aggregates;
   SampleDiagnostics diagnostics;
