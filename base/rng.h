@@ -59,7 +59,11 @@ class RandomStream {
   // first_counter(id) under key_of(id)): the same numbers as RandomStream(id), without the first
   // refill.
   RandomStream(const StreamId& id, const PhiloxCounter& first_block)
-      : key_(key_of(id)), counter_(first_counter(id)), block_(first_block), next_(0) {
+      : RandomStream(key_of(id), first_counter(id), first_block) {}
+  // The same, from the stream's key and first counter as the caller computed them.
+  RandomStream(const PhiloxKey& key, const PhiloxCounter& first_counter,
+               const PhiloxCounter& first_block)
+      : key_(key), counter_(first_counter), block_(first_block), next_(0) {
     ++counter_[0];
   }
 

@@ -67,25 +67,22 @@ class PointWorkspace final : public PathWorkspace {
     // path draws from its own stream exactly as RandomStream(id) would. Groups are small so that
     // the blocks are still in L1 when read.
     const PhiloxKey key = RandomStream::key_of(stream);
-    std::array<StreamId, kGroup> ids;
     std::array<PhiloxCounter, kGroup> counters, blocks;
     StreamId id = stream;
-    std::uint32_t s = 0, j = 0;
+    id.sample = first_sample;
+    id.path = 0;
     for (std::size_t done = 0; done < added;) {
       const std::size_t group = std::min(kGroup, added - done);
       for (std::size_t g = 0; g < group; ++g) {
-        id.sample = first_sample + s;
-        id.path = j;
-        ids[g] = id;
         counters[g] = RandomStream::first_counter(id);
-        if (++j == paths_per_sample) {
-          j = 0;
-          ++s;
+        if (++id.path == paths_per_sample) {
+          id.path = 0;
+          ++id.sample;
         }
       }
       philox4x32_10_many(std::span(counters).first(group), key, std::span(blocks).first(group));
       for (std::size_t g = 0; g < group; ++g, coords += dims, ++pdfs) {
-        RandomStream rng(ids[g], blocks[g]);
+        RandomStream rng(key, counters[g], blocks[g]);
         *pdfs = sample_one(which, rng, coords, dims);
       }
       done += group;
