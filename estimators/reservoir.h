@@ -51,7 +51,7 @@ class Reservoir {
 inline Reservoir reservoir_probabilities(std::span<const double> weights,
                                          std::vector<double>& out) {
   Reservoir reservoir;
-  out.resize(weights.size());
+  out.assign(weights.size(), 0.0);
   for (std::size_t j = 0; j < weights.size(); ++j) out[j] = reservoir.acceptance(weights[j]);
   double survive = 1.0;  // Π_{l>j} (1 - a_l), from the last candidate back
   for (std::size_t j = weights.size(); j-- > 0;) {
