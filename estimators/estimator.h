@@ -70,6 +70,7 @@ struct EstimatorScratch {
   std::vector<PathPair> candidate_pairs;   // every (pool path, camera path) pair of a batch
   std::vector<PathPair> importance_pairs;  // the pairs whose importance guides the draws
   std::vector<double> importances;
+  std::vector<double> weight_targets;     // the targets reuse's MIS weights see (a control's)
   std::vector<double> candidate_values;   // f of every candidate, when known
   std::vector<double> contributions;      // f / (p(x) p(y)) of every candidate, when known
   std::vector<double> pmf;                // P(j | y, X) of one camera sample

@@ -5,13 +5,13 @@
 
 namespace pcbench {
 
-ParamSpec pool_size_spec(int default_value, int min) {
+ParamSpec pool_size_spec(int default_value, int min, int max) {
   return {.name = "M",
           .type = ParamType::kInt,
           .default_value = std::to_string(default_value),
           .description = "light paths in a pool",
           .min = static_cast<double>(min),
-          .max = 1 << 20};
+          .max = static_cast<double>(max)};
 }
 ParamSpec draws_spec(int default_value) {
   return {.name = "K",

@@ -14,7 +14,7 @@
 namespace pcbench {
 
 // Defaults differ between estimators: a negative control picks the M and K where its flaw shows.
-ParamSpec pool_size_spec(int default_value = 16, int min = 1);
+ParamSpec pool_size_spec(int default_value = 16, int min = 1, int max = 1 << 20);
 ParamSpec draws_spec(int default_value = 4);
 ParamSpec pool_mode_spec();
 ParamSpec draw_scheme_spec();

@@ -5,6 +5,7 @@
 
 #include "base/errors.h"
 #include "estimators/family_params.h"
+#include "estimators/reservoir_params.h"
 
 namespace pcbench {
 namespace {
@@ -40,6 +41,23 @@ DeclaredWorkload workload(std::string integrand, ParamText params = {}) {
           .integrand_params = std::move(params),
           .samples = 100000,
           .replicates = 32};
+}
+
+// A reuse control: restir with target |f| (visibility in the targets, so that neighbours' supports
+// differ) and its flaw set from the severity by `adjust`.
+EstimatorEntry reuse_control(std::string name, std::string description, std::string severity,
+                             ReservoirConfig base, ReservoirAdjust adjust) {
+  base.pool = PoolMode::kShared;
+  base.target = ImportanceSource::kF;
+  base.neighbours = 4;
+  base.rounds = 1;
+  EstimatorEntry entry = reservoir_entry(
+      std::move(name), std::move(description),
+      {pool_size_spec(16, 1, kReuseMaxM), neighbours_spec(), severity_spec(std::move(severity))},
+      base, std::move(adjust));
+  entry.biased = true;
+  entry.declared = workload("blocker");
+  return entry;
 }
 
 }  // namespace
@@ -108,6 +126,21 @@ std::vector<EstimatorEntry> negative_control_entries() {
               config.step.K, config.step.M));
         }
         config.step.uniform_mix = 1.0 - params.real("severity");
+      }));
+  entries.push_back(reuse_control(
+      "ctl-naive-reuse",
+      "restir with target |f| and the naive reuse weights 1/(k+1) (Bitterli 2020's biased 1/ΣM)",
+      "share of the naive weights (the rest 1/Z)", {.weighting = {.form = ReuseWeights::kUniform}},
+      [](ReservoirConfig& config, const ResolvedParams& params) {
+        config.weighting.naive_share = params.real("severity");
+      }));
+  entries.push_back(reuse_control(
+      "ctl-reuse-unshadowed",
+      "restir with target |f| whose balance weights see the neighbours' targets without "
+      "visibility",
+      "share of the unoccluded approximation in the neighbours' weight targets", {},
+      [](ReservoirConfig& config, const ResolvedParams& params) {
+        config.unshadowed_share = params.real("severity");
       }));
   return entries;
 }

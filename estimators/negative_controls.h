@@ -18,6 +18,16 @@
 //   ctl-without-replacement (g) draws without replacement weighted by the with-replacement
 //                          formula 1 / (M K P); P mixes the importance with uniform by
 //                          1 - severity (uniform P would make it unbiased).
+//   ctl-naive-reuse        restir (estimators/restir.h) with target |f| whose reuse weights
+//                          every source 1/(k+1) (Bitterli et al. 2020's biased 1/ΣM), blended
+//                          with the honest 1/Z by 1 - severity: where a neighbour's target is 0
+//                          (occluded) and the sample's is not, the weights of the sources that can
+//                          produce x sum to less than 1.
+//   ctl-reuse-unshadowed   restir with target |f| and balance weights whose neighbours' targets
+//                          are (1 - severity) p̂ + severity × the unoccluded approximation: the
+//                          weights forget that an occluded neighbour cannot produce x, and sum to
+//                          less than 1 over the sources that can.
+//                          Both are declared on blocker, whose neighbours' supports differ.
 #pragma once
 
 #include <vector>

@@ -18,6 +18,8 @@ namespace pcbench {
   ESTIMATOR(vc_all_entry) \
   ESTIMATOR(lvc_entry) \
   ESTIMATOR(pcbpt_entry) \
+  ESTIMATOR(ris_entry) \
+  ESTIMATOR(restir_entry) \
   ESTIMATOR(pt_entry) \
   ESTIMATOR(lt_entry) \
   ESTIMATOR(ctl_scene_visible_only_entry) \
@@ -31,7 +33,7 @@ namespace {
 
 // The rows with an analytic form (most render scenes too) and those of scenes only, in list
 // order: the estimators above, then the analytic negative controls (negative_controls.h, one
-// file of seven). Rows registered later (register_scene_estimator) go after the scene ones.
+// file). Rows registered later (register_scene_estimator) go after the scene ones.
 struct Tables {
   std::vector<EstimatorEntry> analytic;
   std::vector<EstimatorEntry> scene_only;

@@ -228,16 +228,26 @@ void ResamplingEstimator::estimate_part(const BatchContext& ctx, PathWorkspace& 
     draw_stream.sample = ctx.first_sample + i;
     step_.choose(pool_view(pools, scratch, i), draw_stream, scratch.pmf, scratch.sampler,
                  scratch.draws, scratch.terms);
-    for (std::size_t t = scratch.term_offsets.back(); t < scratch.terms.size(); ++t) {
-      scratch.pairs.push_back({.light = pools.pool_start(i) + scratch.terms[t].index, .camera = i});
-    }
-    scratch.term_offsets.push_back(scratch.terms.size());
+    close_sample_terms(scratch, pools.pool_start(i), i);
     if (ctx.log != nullptr) {
       ctx.log->push_back({.sample = ctx.first_sample + i,
                           .pmf = scratch.pmf,
                           .draws = std::vector<std::uint32_t>(scratch.draws)});
     }
   }
+  sum_terms(ctx, paths, scratch, m, estimates);
+}
+
+void close_sample_terms(EstimatorScratch& scratch, std::uint32_t pool_start, std::uint32_t i) {
+  for (std::size_t t = scratch.term_offsets.back(); t < scratch.terms.size(); ++t) {
+    scratch.pairs.push_back({.light = pool_start + scratch.terms[t].index, .camera = i});
+  }
+  scratch.term_offsets.push_back(scratch.terms.size());
+}
+
+void sum_terms(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& scratch,
+               std::uint32_t m, std::span<double> estimates) {
+  const auto n = static_cast<std::uint32_t>(scratch.term_offsets.size() - 1);
   scratch.values.resize(scratch.pairs.size());
   if (!scratch.candidate_values.empty()) {
     for (std::size_t d = 0; d < scratch.pairs.size(); ++d) {

@@ -61,6 +61,18 @@ struct PreparedPools {
   std::uint32_t pool_start(std::uint32_t i) const { return shared ? 0u : i * M; }
 };
 
+// The weighted terms of a part of a batch, as every estimator of terms (the family, the reservoir
+// estimators) turns them into estimates. Before the first sample: scratch.terms, .pairs cleared
+// and .term_offsets = {0}.
+// Closes camera sample i's terms (appended since its last offset): each a connection to path
+// pool_start + index.
+void close_sample_terms(EstimatorScratch& scratch, std::uint32_t pool_start, std::uint32_t i);
+// f of each connection (from scratch.candidate_values, pool stride m, when known), then per
+// sample Σ coefficient × f / (p(x) p(y)) into `estimates` (and with |f| into ctx.magnitudes);
+// counts the connections.
+void sum_terms(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& scratch,
+               std::uint32_t m, std::span<double> estimates);
+
 class ResamplingEstimator final : public Estimator {
  public:
   explicit ResamplingEstimator(const ResamplingConfig& config)

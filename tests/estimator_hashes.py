@@ -7,7 +7,7 @@ Usage:
 
 Runs the commands of commands() below (every scene estimator, pcbpt with each visibility and
 guide, also in its two named designs, and the scene controls on the four built-in scenes at
-32x32; the whole default suite at a small budget) with 1 thread and with 2, and hashes per run
+32x32; the whole default suite at a small budget; ris, restir and the reuse controls) with 1 thread and with 2, and hashes per run
 what the estimators determine:
   - the per-replicate estimates and their summaries (mean_abs, n, nonfinite, largest_abs,
     nonzero, effective_samples), the run's mean, standard error and mean_abs, the counters
@@ -66,6 +66,14 @@ def commands(binary):
         # Every row of the default suite (113 runs) at 2048 samples x 4 replicates instead of its
         # 10^5-10^6 x 32, which would take minutes.
         "analytic": ["suites/default.json", "-n", "2048", "-r", "4", "-s", "1"],
+        # The reservoir estimators and their controls (issue 28), which the default suite leaves
+        # out, at their defaults and with reuse over two rounds.
+        "reservoir": ["-e", "ris,restir,ctl-naive-reuse,ctl-reuse-unshadowed",
+                      "-i", "blocker,linear-emitter,genz-oscillatory", "-n", "2048", "-r", "4",
+                      "-s", "1"],
+        "reservoir-rounds": ["-e", "restir", "-i", "blocker", "-p", "rounds=2",
+                             "-p", "weights=balance,pairwise,count", "-p", "target=approx,f",
+                             "-n", "2048", "-r", "4", "-s", "1"],
     }
 
 

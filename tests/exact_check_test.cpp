@@ -129,5 +129,34 @@ TEST(ExactCheck, PassesEveryHonestConfiguration) {
   }
 }
 
+// ris and restir pass at every target, weighting and round count, on a signed integrand, a
+// non-uniform density and visibility (every reservoir choice enumerated).
+TEST(ExactCheck, PassesEveryHonestReservoirConfiguration) {
+  const std::vector<std::string> integrands = {"genz-oscillatory", "blocker", "linear-emitter"};
+  const std::vector<RunPlan> plans =
+      plan_runs({GridRequest{.estimators = {"ris"},
+                             .integrands = integrands,
+                             .params = {{"K", {"1", "3"}},
+                                        {"target", {"approx", "f", "uniform"}},
+                                        {"pool", {"fresh", "shared"}}},
+                             .where = "test"},
+                 GridRequest{.estimators = {"restir"},
+                             .integrands = integrands,
+                             .params = {{"N", {"1", "2"}},
+                                        {"rounds", {"1", "2"}},
+                                        {"target", {"approx", "f", "uniform"}},
+                                        {"weights", {"balance", "pairwise", "count"}}},
+                             .where = "test"}},
+                {});
+  ASSERT_EQ(plans.size(), 36u + 108u);
+  for (const RunPlan& plan : plans) {
+    const ExactCheck check = exact_check(plan, 3);
+    EXPECT_EQ(check.result, "consistent")
+        << plan.estimator->name << " " << plan.id << ": " << check.reason;
+    EXPECT_EQ(check.support_violations, 0u);
+    EXPECT_LT(check.max_multiplicity_error, 1e-12);
+  }
+}
+
 }  // namespace
 }  // namespace pcbench

@@ -9,6 +9,12 @@
 //
 // Enumeration visits up to M^K sequences per case, so pools are cut to M <= 6 and K <= 3; the
 // result says which M and K were checked.
+//
+// The reservoir estimators (ris, restir and the reuse controls, estimators/reservoir_estimator.h)
+// are checked the same way: every camera sample of one batch is a case, and every sequence of
+// reservoir choices its estimate reads (its own reservoirs, and for reuse those of its neighbours
+// and of every round) is enumerated with its probability. Reuse is cut further, to N <= 2 / rounds
+// and rounds <= 2.
 #pragma once
 
 #include <cstdint>
@@ -21,6 +27,8 @@ namespace pcbench {
 inline constexpr std::uint32_t kExactMaxM = 6;
 inline constexpr std::uint32_t kExactMaxK = 3;
 inline constexpr std::uint32_t kExactCases = 64;
+inline constexpr std::uint32_t kExactMaxNeighbours = 2;
+inline constexpr std::uint32_t kExactMaxRounds = 2;
 // Rounding tolerance, relative to the expected sum of |terms| (Σ |f| / P over the draws).
 inline constexpr double kExactTolerance = 1e-9;
 
