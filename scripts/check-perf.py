@@ -10,7 +10,8 @@ For every benchmark in both, the medians of CPU time are compared. A benchmark i
 with cv the coefficient of variation across repetitions: a slowdown must exceed both a floor and
 several times the noise both runs showed. Benchmarks with a `ratio` counter (BM_RayRate: a
 render's rays per second over Embree's alone on the same rays) are also flagged when the median
-ratio falls below the baseline's by the same margin. Prints one line per benchmark; exits 1 when any is
+ratio falls below the baseline's by the same kind of margin, from the ratios' own coefficients of
+variation. Prints one line per benchmark; exits 1 when any is
 flagged, 2 on bad input.
 """
 import json
@@ -56,7 +57,9 @@ def main():
         allowed = 1.0 + max(MIN_SLOWDOWN, noise)
         slow = ratio > allowed
         if "ratio" in b["median"] and "ratio" in n["median"]:
-            slow = slow or n["median"]["ratio"] * allowed < b["median"]["ratio"]
+            ratio_noise = NOISE_FACTOR * (b["cv"].get("ratio", 0.0) + n["cv"].get("ratio", 0.0))
+            ratio_allowed = 1.0 + max(MIN_SLOWDOWN, ratio_noise)
+            slow = slow or n["median"]["ratio"] * ratio_allowed < b["median"]["ratio"]
         if slow:
             flagged.append(name)
         print("%-60s %12.4g %12.4g %8.3f %8.3f%s" % (name, b["median"]["cpu_time"],
