@@ -10,6 +10,7 @@
 #include "harness/verify/statistics.h"
 #include "integrands/point_integrand.h"
 #include "integrands/registry.h"
+#include "tests/test_support.h"
 
 namespace pcbench {
 namespace {
@@ -213,21 +214,7 @@ TEST(ResamplingUnbiased, EveryConfigurationOnSignedAndPositiveIntegrands) {
   const BudgetDefaults budget{.samples = 10000, .replicates = 16};
   const std::vector<RunPlan> plans = plan_runs(grids, budget);
   ASSERT_EQ(plans.size(), 2u + 8u + 24u);
-  std::vector<Verdict> verdicts;
-  verdicts.reserve(plans.size());
-  for (const RunPlan& p : plans) {
-    const RunResult result = execute_run(p, {.seed = 5});
-    ASSERT_EQ(result.status, RunStatus::kOk);
-    verdicts.push_back(test_against_reference(result, "consistent"));
-  }
-  std::vector<Verdict*> family;
-  for (Verdict& v : verdicts) family.push_back(&v);
-  decide_family(family, 1e-3);
-  for (std::size_t i = 0; i < plans.size(); ++i) {
-    EXPECT_EQ(verdicts[i].result, "consistent")
-        << plans[i].estimator->name << " on " << plans[i].integrand->name << " (" << plans[i].where
-        << "): " << verdicts[i].reason;
-  }
+  expect_family_consistent(plans, 5, 1e-3);
 }
 
 }  // namespace

@@ -183,21 +183,7 @@ TEST(ReservoirUnbiased, HonestFormsOnSignedNonUniformAndOccludedIntegrands) {
        .where = "restir"}};
   const std::vector<RunPlan> plans = plan_runs(grids, {.samples = 20000, .replicates = 16});
   ASSERT_EQ(plans.size(), 36u + 36u);
-  std::vector<Verdict> verdicts;
-  verdicts.reserve(plans.size());
-  for (const RunPlan& plan : plans) {
-    const RunResult result = execute_run(plan, {.seed = 7});
-    ASSERT_EQ(result.status, RunStatus::kOk);
-    verdicts.push_back(test_against_reference(result, "consistent"));
-  }
-  std::vector<Verdict*> family;
-  for (Verdict& v : verdicts) family.push_back(&v);
-  decide_family(family, 1e-3);
-  for (std::size_t i = 0; i < plans.size(); ++i) {
-    EXPECT_EQ(verdicts[i].result, "consistent")
-        << plans[i].estimator->name << " on " << plans[i].integrand->name << ": "
-        << verdicts[i].reason;
-  }
+  expect_family_consistent(plans, 7, 1e-3);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #include "tests/test_support.h"
 
 #include "harness/commands/cli.h"
+#include "harness/run/runner.h"
+#include "harness/verify/statistics.h"
 
 #include <unistd.h>
 
@@ -142,6 +144,24 @@ void InTemporaryFolder::SetUp() {
 
 void InTemporaryFolder::TearDown() {
   std::filesystem::current_path(previous_);
+}
+
+void expect_family_consistent(const std::vector<RunPlan>& plans, std::uint64_t seed, double alpha) {
+  std::vector<Verdict> verdicts;
+  verdicts.reserve(plans.size());
+  for (const RunPlan& plan : plans) {
+    const RunResult result = execute_run(plan, {.seed = seed});
+    ASSERT_EQ(result.status, RunStatus::kOk) << plan.where << ": " << result.error;
+    verdicts.push_back(test_against_reference(result, "consistent"));
+  }
+  std::vector<Verdict*> family;
+  for (Verdict& v : verdicts) family.push_back(&v);
+  decide_family(family, alpha);
+  for (std::size_t i = 0; i < plans.size(); ++i) {
+    EXPECT_EQ(verdicts[i].result, "consistent")
+        << plans[i].estimator->name << " on " << plans[i].integrand->name << " (" << plans[i].where
+        << "): " << verdicts[i].reason;
+  }
 }
 
 }  // namespace pcbench

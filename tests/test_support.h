@@ -19,6 +19,10 @@ RunPlan plan_single(const std::string& estimator, const std::string& integrand,
                     std::map<std::string, std::vector<std::string>> params, std::uint64_t samples,
                     std::uint32_t replicates);
 
+// Runs every plan with `seed` and expects each to come out consistent with its reference when
+// the runs are decided as one Holm family at `alpha` (a test's error budget over many runs).
+void expect_family_consistent(const std::vector<RunPlan>& plans, std::uint64_t seed, double alpha);
+
 // p-value of Pearson's chi-square test that `counts` come from equal-probability bins.
 double chi_square_uniform_p_value(const std::vector<double>& counts);
 
