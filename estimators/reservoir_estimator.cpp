@@ -1,6 +1,7 @@
 #include "estimators/reservoir_estimator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -144,7 +145,8 @@ ReservoirSample ReservoirEstimator::reuse(const ReservoirBatch& batch, std::uint
   const auto target_of = [&](std::uint32_t t, std::uint32_t j) {
     return batch.target[std::size_t{t} * m + j];
   };
-  std::vector<double> targets(k + 1);  // every source's target at one source's sample
+  std::array<double, kMaxReuseNeighbours + 1> storage;
+  const std::span<double> targets(storage.data(), k + 1);  // every source's target at one sample
   weights.assign(k + 1, 0.0);
   for (std::uint32_t a = 0; a <= k; ++a) {
     const ReservoirSample& in = previous[source(a)];

@@ -31,12 +31,16 @@
 
 namespace pcbench {
 
+// The most neighbours a reuse reads (the `N` parameter's range): a sample's targets at one
+// candidate then fit on the stack, with no allocation per camera sample.
+constexpr std::uint32_t kMaxReuseNeighbours = 32;
+
 struct ReservoirConfig {
   std::uint32_t M = 16;
   std::uint32_t K = 1;  // independent reservoirs per camera sample in round 0
   PoolMode pool = PoolMode::kFresh;
   ImportanceSource target = ImportanceSource::kApproximate;  // approx, f or uniform
-  std::uint32_t neighbours = 0;                              // N
+  std::uint32_t neighbours = 0;                              // N <= kMaxReuseNeighbours
   std::uint32_t rounds = 0;                                  // 0: no reuse (ris)
   ReuseWeighting weighting = {};
   // ctl-reuse-unshadowed: the neighbours' targets in the MIS weights are

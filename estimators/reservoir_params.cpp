@@ -21,7 +21,7 @@ ParamSpec neighbours_spec() {
               "neighbours per reuse: the next N camera samples of the batch (mod its "
               "size)",
           .min = 1,
-          .max = 32};
+          .max = kMaxReuseNeighbours};
 }
 ParamSpec rounds_spec() {
   return {.name = "rounds",
