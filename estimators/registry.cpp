@@ -25,6 +25,8 @@ namespace pcbench {
   ESTIMATOR(ctl_scene_visible_only_entry) \
   ESTIMATOR(ctl_scene_lvc_per_vertex_entry) \
   ESTIMATOR(ctl_scene_nee_count_entry) \
+  ESTIMATOR(ctl_scene_naive_reuse_entry) \
+  ESTIMATOR(ctl_scene_reuse_unshadowed_entry) \
   /* the end of the list */
 
 PCBENCH_ESTIMATORS(PCBENCH_DECLARE_ENTRY)

@@ -41,6 +41,12 @@ ParamSpec reuse_weights_spec() {
           .choices = {"balance", "pairwise", "count"}};
 }
 
+ReuseWeights reuse_weights_named(const std::string& choice) {
+  return choice == "pairwise" ? ReuseWeights::kPairwise
+         : choice == "count"  ? ReuseWeights::kCount
+                              : ReuseWeights::kBalance;
+}
+
 ReservoirConfig reservoir_config_from(const ResolvedParams& params, ReservoirConfig config) {
   if (params.has("M")) config.M = static_cast<std::uint32_t>(params.integer("M"));
   if (params.has("K")) config.K = static_cast<std::uint32_t>(params.integer("K"));
@@ -55,12 +61,7 @@ ReservoirConfig reservoir_config_from(const ResolvedParams& params, ReservoirCon
   }
   if (params.has("N")) config.neighbours = static_cast<std::uint32_t>(params.integer("N"));
   if (params.has("rounds")) config.rounds = static_cast<std::uint32_t>(params.integer("rounds"));
-  if (params.has("weights")) {
-    const std::string& weights = params.text("weights");
-    config.weighting.form = weights == "pairwise" ? ReuseWeights::kPairwise
-                            : weights == "count"  ? ReuseWeights::kCount
-                                                  : ReuseWeights::kBalance;
-  }
+  if (params.has("weights")) config.weighting.form = reuse_weights_named(params.text("weights"));
   return config;
 }
 

@@ -19,6 +19,8 @@ ParamSpec target_spec();
 ParamSpec neighbours_spec();
 ParamSpec rounds_spec();
 ParamSpec reuse_weights_spec();
+// The form a choice of reuse_weights_spec names.
+ReuseWeights reuse_weights_named(const std::string& choice);
 
 // The config of `base` with every reservoir parameter present in `params` applied (M, K, pool,
 // target, N, rounds, weights; a control's severity is read by the control).

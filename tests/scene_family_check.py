@@ -13,7 +13,7 @@ Usage (ctest `scenes.family`, label ci):
    alpha / (m T), m the session's tested verdicts, and the run exits 0.
 2. `verify -e CONTROL` for each scene control (the visible-only one also with
    `-p design=published`): it renders the control and its declared honest
-   partner, the tile comparison flags the control, exit 0.
+   partner (plain, or pt for the reuse controls), the tile comparison flags the control, exit 0.
 Prints one line per check and "N passed, M failed"; exits 1 if any check failed.
 """
 
@@ -26,12 +26,15 @@ import tempfile
 ALPHA = 0.01
 TILE_TESTS_32 = 16 * 3  # 4x4 tiles of 8x8 pixels, 3 channels
 SCENES = ["furnace", "cornell", "cornell-glossy", "door-ajar", "lampshade"]
-# (control, its scene, extra parameters): the visible-only control in pcbpt's legacy tile design
-# and in the published one (zero visibility floor, no mixing).
-CONTROLS = [("ctl-scene-visible-only", "door-ajar", []),
-            ("ctl-scene-visible-only", "door-ajar", ["-p", "design=published"]),
-            ("ctl-scene-lvc-per-vertex", "cornell", []),
-            ("ctl-scene-nee-count", "cornell", [])]
+# (control, its scene, extra parameters, its declared honest partner): the visible-only control
+# in pcbpt's legacy tile design and in the published one (zero visibility floor, no mixing); the
+# reuse controls against path tracing.
+CONTROLS = [("ctl-scene-visible-only", "door-ajar", [], "plain"),
+            ("ctl-scene-visible-only", "door-ajar", ["-p", "design=published"], "plain"),
+            ("ctl-scene-lvc-per-vertex", "cornell", [], "plain"),
+            ("ctl-scene-nee-count", "cornell", [], "plain"),
+            ("ctl-scene-naive-reuse", "cornell", [], "pt"),
+            ("ctl-scene-reuse-unshadowed", "cornell", [], "pt")]
 
 passed = 0
 failed = 0
@@ -96,7 +99,7 @@ def family_power(pcbench, folder):
 
 
 def controls_alone(pcbench, folder):
-    for n, (control, scene, extra) in enumerate(CONTROLS):
+    for n, (control, scene, extra, partner) in enumerate(CONTROLS):
         out = os.path.join(folder, f"{control}-{n}")
         proc, report = run(pcbench, ["verify", "-e", control] + extra, out)
         check(proc.returncode == 0,
@@ -105,14 +108,14 @@ def controls_alone(pcbench, folder):
             check(False, f"{control} wrote a report")
             continue
         estimators = [r["estimator"] for r in report["runs"]]
-        check(estimators == [control, "plain"] and
+        check(estimators == [control, partner] and
               all(r["integrand"] == scene for r in report["runs"]),
               f"{control} ran with its partner on {scene}: {estimators}")
         caught = [c for c in report["comparisons"]
                   if c["test"] == "block-pyramid" and control in c["estimator"]]
         check(len(caught) == 1 and caught[0]["result"] == "biased" and
               caught[0]["expect"] == "biased",
-              f"{control} flagged by the tile comparison with plain "
+              f"{control} flagged by the tile comparison with {partner} "
               f"({[c['result'] for c in caught]})")
 
 

@@ -25,6 +25,7 @@ void iterate(const SceneEstimator& estimator, const RenderServices& services, Sc
     if (emitter_hits) value += services.connect_recorded({}, prefix);
     if (prefix.max_s > 0) value += pass.connections(pool, prefix);
   });
+  pass.finish_iteration(index, sum, counters);
 }
 
 }  // namespace

@@ -32,7 +32,9 @@ namespace pcbench::scene {
 
 // One estimator at work on one replicate. prepare() runs once per iteration before any pixel,
 // on the calling thread; connections() then runs for many pixels at once (one image row per
-// thread), so it must leave the pass unchanged.
+// thread), so it must leave the pass unchanged but for state of its own pixel (a slot per pixel,
+// which only that pixel's thread writes); finish_iteration() runs after every pixel's
+// connections, on the calling thread.
 class ScenePass {
  public:
   virtual ~ScenePass() = default;
@@ -48,6 +50,15 @@ class ScenePass {
   // vertices: their sum, each MIS-weighted by RenderServices::connect and its share recorded by
   // RenderServices::record (the strategy images must add up to the image).
   virtual Rgb connections(const LightPool& pool, CameraPrefix& prefix) const = 0;
+
+  // Contributions of iteration `index` that need other pixels' camera vertices (restir's
+  // spatial reuse, from the slots connections() left): added to `sum` (per-pixel sums of the
+  // iteration, as camera_pass adds) and recorded by strategy, their work counted in `counters`.
+  virtual void finish_iteration(std::uint32_t index, Image& sum, TraceCounters& counters) {
+    (void)index;
+    (void)sum;
+    (void)counters;
+  }
 
   // Path-dependent counts for the MIS weights of every strategy (ConnectionCountModel,
   // connection.h), or none: the estimator's constant StrategyCounts. prepare() may update the

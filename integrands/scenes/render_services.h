@@ -102,12 +102,12 @@ class RenderServices {
   // The strategy images' share of a contribution the estimator adds to the pixel (nothing
   // without --strategy-images).
   void record(std::uint32_t s, const CameraPrefix& prefix, const Rgb& value) const;
+  // The same for a contribution added to pixel `pixel` after its camera pass (strategy (s, t)).
+  void record(std::uint32_t s, std::uint32_t t, std::uint32_t pixel, const Rgb& value) const;
   // connect(), recorded whole: for estimators that add each connection as it is.
   Rgb connect_recorded(std::span<const PathVertex> light, const CameraPrefix& prefix) const;
 
  private:
-  void record(std::uint32_t s, std::uint32_t t, std::uint32_t pixel, const Rgb& value) const;
-
   const Scene& scene_;
   StrategyCounts counts_;
   std::uint64_t key_;
