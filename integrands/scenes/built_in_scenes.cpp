@@ -112,6 +112,76 @@ SceneDescription lampshade() {
   return s;
 }
 
+// The fractional part of n·step: a fixed low-discrepancy sequence in [0, 1) (no generator).
+double sequence(int n, double step) {
+  const double v = n * step;
+  return v - std::floor(v);
+}
+
+SceneDescription many_lights() {
+  SceneDescription s;
+  s.name = "many-lights";
+  s.source = "built-in";
+  // Grey walls and ceiling keep the indirect light low, so that the floor shows the direct
+  // light's shadow edges.
+  const auto floor = add_material(s, {"floor", MaterialKind::kDiffuse, {0.7, 0.7, 0.7}, 0.0});
+  const auto grey = add_material(s, {"grey", MaterialKind::kDiffuse, {0.45, 0.45, 0.45}, 0.0});
+  const auto wood = add_material(s, {"wood", MaterialKind::kDiffuse, {0.6, 0.45, 0.3}, 0.0});
+  const auto metal = add_material(s, {"metal", MaterialKind::kDiffuse, {0.4, 0.4, 0.45}, 0.0});
+  // The room x, z in [0, 2], y in [0, 1], faces seen from inside. A partition at x = 1.4 up to
+  // y = 0.8 closes off an alcove x in [1.4, 2]; its lights reach the camera's side only through
+  // the 0.2 gap under the ceiling: the column nearest the partition lights the floor x < ~1 (a
+  // straight shadow edge along z), the next one a strip along the far wall, the last none of it.
+  add_quad(s, {0, 0, 0}, {0, 0, 2}, {2, 0, 2}, {2, 0, 0}, floor);
+  add_quad(s, {0, 1, 0}, {2, 1, 0}, {2, 1, 2}, {0, 1, 2}, grey);  // ceiling
+  add_quad(s, {0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}, grey);  // back
+  add_quad(s, {0, 0, 2}, {0, 1, 2}, {2, 1, 2}, {2, 0, 2}, grey);  // front
+  add_quad(s, {0, 0, 0}, {0, 1, 0}, {0, 1, 2}, {0, 0, 2}, grey);  // left
+  add_quad(s, {2, 0, 0}, {2, 0, 2}, {2, 1, 2}, {2, 1, 0}, grey);  // right
+  const double partition_x = 1.4, partition_top = 0.8;
+  add_quad(s, {partition_x, 0, 0}, {partition_x, 0, 2}, {partition_x, partition_top, 2},
+           {partition_x, partition_top, 0}, grey);
+  // A low table and a pillar on the floor, each with its own shadows.
+  add_box(s, {0.2, 0.0, 0.7}, {0.6, 0.3, 1.0}, wood, false);
+  add_box(s, {0.85, 0.0, 0.35}, {1.0, 0.7, 0.5}, grey, false);
+  // 10 × 10 square emitters facing down just under the ceiling, at x, z = 0.1 + 0.2 · (i, j).
+  // Radiance spans two orders of magnitude by group, each light's place within its group from a
+  // fixed sequence: the open lights of the camera's side (side 0.03) 6 · [1, 10], the alcove's
+  // (side 0.04) 6 · [25, 100], and six lights of the camera's side (side 0.06) sunk in deep cans
+  // (open square tubes from the ceiling down to y = 0.65) 6 · [40, 100], each lighting a pool of
+  // floor with a sharp rim. Selection by power picks an alcove or can light ~95% of the time,
+  // and from most of the floor those are hidden.
+  const int cans[6][2] = {{1, 1}, {3, 3}, {5, 1}, {5, 5}, {1, 5}, {6, 7}};
+  const double height = 0.99;
+  for (int i = 0; i < 10; ++i) {
+    for (int j = 0; j < 10; ++j) {
+      const double x = 0.1 + 0.2 * i, z = 0.1 + 0.2 * j;
+      const int n = 10 * i + j;
+      const double h = sequence(n, 0.6180339887498949);
+      const double tint = sequence(n, 0.7548776662466927);
+      bool in_can = false;
+      for (const auto& c : cans) in_can = in_can || (c[0] == i && c[1] == j);
+      const double exponent = x > partition_x ? 1.4 + 0.6 * h : (in_can ? 1.6 + 0.4 * h : 1.0 * h);
+      const double half = in_can ? 0.03 : (x > partition_x ? 0.02 : 0.015);
+      const double radiance = 6.0 * std::pow(10.0, exponent);
+      const Rgb emission = Rgb{1.0, 0.8 + 0.2 * tint, 0.6 + 0.4 * tint} * radiance;
+      add_quad(s, {x - half, height, z - half}, {x + half, height, z - half},
+               {x + half, height, z + half}, {x - half, height, z + half}, grey, emission);
+      if (in_can) {
+        // Two-sided walls, open at the bottom, meeting the ceiling.
+        const double x0 = x - 0.05, x1 = x + 0.05, z0 = z - 0.05, z1 = z + 0.05;
+        const double y0 = 0.65, y1 = 1.0;
+        add_quad(s, {x0, y0, z0}, {x1, y0, z0}, {x1, y1, z0}, {x0, y1, z0}, metal);
+        add_quad(s, {x0, y0, z1}, {x0, y1, z1}, {x1, y1, z1}, {x1, y0, z1}, metal);
+        add_quad(s, {x0, y0, z0}, {x0, y1, z0}, {x0, y1, z1}, {x0, y0, z1}, metal);
+        add_quad(s, {x1, y0, z0}, {x1, y0, z1}, {x1, y1, z1}, {x1, y1, z0}, metal);
+      }
+    }
+  }
+  s.camera = {{0.7, 0.9, 1.95}, {0.75, 0.0, 0.6}, {0.0, 1.0, 0.0}, 65.0};
+  return s;
+}
+
 SceneDescription furnace() {
   SceneDescription s;
   s.name = "furnace";
@@ -126,8 +196,8 @@ SceneDescription furnace() {
 }  // namespace
 
 const std::vector<std::string>& built_in_scene_names() {
-  static const std::vector<std::string> names = {"cornell", "cornell-glossy", "door-ajar",
-                                                 "lampshade", "furnace"};
+  static const std::vector<std::string> names = {"cornell",   "cornell-glossy", "door-ajar",
+                                                 "lampshade", "many-lights",    "furnace"};
   return names;
 }
 
@@ -136,6 +206,7 @@ std::optional<SceneDescription> built_in_scene(const std::string& name) {
   if (name == "cornell-glossy") return cornell(true);
   if (name == "door-ajar") return door();
   if (name == "lampshade") return lampshade();
+  if (name == "many-lights") return many_lights();
   if (name == "furnace") return furnace();
   return std::nullopt;
 }

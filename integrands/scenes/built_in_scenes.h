@@ -7,6 +7,10 @@
 //   lampshade       a room lit by a small lamp that faces up inside a shade open at both ends:
 //                   the camera sees no emitter, and the shade blocks nearly every connection
 //                   from the room to the bulb or to a first light bounce
+//   many-lights     a room lit by 100 small ceiling lights whose radiances span two orders of
+//                   magnitude; the strongest sit in an alcove behind a partition or in deep cans,
+//                   so from most of the floor the lights chosen by power are hidden (where
+//                   resampled next-event estimation should beat plain next-event estimation)
 //   furnace         a closed box whose walls all emit Le and reflect with albedo ρ: every pixel
 //                   sees exactly Le · Σ_{k<L} ρ^k (furnace_radiance)
 #pragma once

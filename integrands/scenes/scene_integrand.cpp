@@ -152,6 +152,8 @@ std::vector<IntegrandEntry> scene_integrand_entries() {
       {"door-ajar", "scene: a room lit only through a door ajar from a lit neighbouring room"},
       {"lampshade",
        "scene: a room lit by a bulb inside a lampshade: connections to the light are occluded"},
+      {"many-lights",
+       "scene: 100 small lights with radiances spanning 100x; the strongest are hidden"},
       {"furnace", "scene: closed box emitting Le with albedo ρ; exact Le Σ_{k<L} ρ^k"},
   };
   std::vector<IntegrandEntry> out;
