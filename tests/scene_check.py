@@ -7,7 +7,7 @@ Usage (ctest `scenes.small`, label ci, and `scenes.full`, label full):
 
 Runs `pcbench verify` on suites/scenes.json (rewritten to RESOLUTION, SAMPLES per pixel and
 REPLICATES): path tracing, light tracing, BDPT (plain), vertex connection, the light vertex
-cache and probabilistic connections on furnace, cornell, cornell-glossy, door-ajar and lampshade
+cache, probabilistic connections, ris and restir on furnace, cornell, cornell-glossy, door-ajar and lampshade
 (less any --skip-scene), and the scene negative controls where their flaw shows; then checks the
 report:
   - exit 0: every tile comparison came out as expected (honest pairs consistent, every pair with
@@ -35,12 +35,13 @@ import subprocess
 import sys
 import tempfile
 
-HONEST = ["plain", "pt", "lt", "vc-all", "lvc", "pcbpt"]
+HONEST = ["plain", "pt", "lt", "vc-all", "lvc", "pcbpt", "ris", "restir"]
 SCENES = ["furnace", "cornell", "cornell-glossy", "door-ajar", "lampshade"]
 # Where each control's flaw shows (in a convex furnace every cache point sees every light vertex,
 # so the visible-only importance is honest there).
 CONTROLS = {"ctl-scene-visible-only": ["door-ajar"],
-            "ctl-scene-lvc-per-vertex": ["furnace", "cornell", "door-ajar"]}
+            "ctl-scene-lvc-per-vertex": ["furnace", "cornell", "door-ajar"],
+            "ctl-scene-naive-reuse": ["cornell"]}
 REQUIRED_TILE_MDB = 0.05
 
 

@@ -7,8 +7,11 @@ namespace pcbench::scene {
 EmitterTargetValue emitter_target(const RenderServices& services, const PathVertex& x,
                                   std::span<const PathVertex> camera, EmitterTarget target,
                                   TraceCounters& counters) {
-  const Rgb value = services.connect(std::span(&x, 1), camera,
-                                     {.visibility = target == EmitterTarget::kVisible}, counters);
+  // Without the MIS weight: a balance heuristic per candidate would cost more than the rest of
+  // the candidate, and p̂ only needs to be > 0 wherever the weighted f is.
+  const Rgb value = services.connect(
+      std::span(&x, 1), camera,
+      {.visibility = target == EmitterTarget::kVisible, .weighted = false}, counters);
   return {value, value.max_channel() * x.pdf_fwd};
 }
 
@@ -39,10 +42,13 @@ Rgb shade_emitter_sample(const RenderServices& services, const PathVertex& point
                          std::span<const PathVertex> camera, EmitterTarget target,
                          TraceCounters& counters) {
   if (contribution_weight == 0.0 || at_camera.density == 0.0) return {};
-  // f(Y) in the area measure is the connection × q(Y), q = the point's own density.
-  const Rgb f_over_q = target == EmitterTarget::kVisible
-                           ? at_camera.value
-                           : services.connect(std::span(&point, 1), camera, {}, counters);
+  // f(Y) in the area measure is the MIS-weighted connection × q(Y), q = the point's own density.
+  // A visible target has already traced the shadow ray: only the weight is missing.
+  const std::span<const PathVertex> light(&point, 1);
+  const Rgb f_over_q =
+      target == EmitterTarget::kVisible
+          ? at_camera.value * mis_weight(services.scene(), light, camera, services.counts())
+          : services.connect(light, camera, {}, counters);
   return f_over_q * (point.pdf_fwd * contribution_weight);
 }
 

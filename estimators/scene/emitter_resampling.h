@@ -5,11 +5,12 @@
 // unbiased contribution weight
 //     W = Σ_i w_i / (M p̂(Y)),   so that   E[f(Y) W] = ∫ f(x) dx   wherever p̂ > 0 where f > 0.
 // f is the next-event strategy's MIS-weighted contribution (RenderServices::connect, strategy
-// (1, t)), in the area measure of the emitter point x. The target p̂ is that contribution's
-// largest channel without the shadow ray (unshadowed) or with it (visible); both are > 0
-// wherever f is, so W is unbiased for either. A target the same at every pixel is what spatial
-// reuse needs to compare samples between pixels: p̂_c(x) of camera vertex c is a function of c's
-// prefix and x alone.
+// (1, t)), in the area measure of the emitter point x. The target p̂ is the contribution's
+// largest channel without its MIS weight (a balance heuristic per candidate would cost more than
+// the rest of it), without the shadow ray (unshadowed) or with it (visible); both are > 0
+// wherever f is, so W is unbiased for either. A target defined alike at every pixel is what
+// spatial reuse needs to compare samples between pixels: p̂_c(x) of camera vertex c is a
+// function of c's prefix and x alone.
 #pragma once
 
 #include <cstdint>
@@ -26,7 +27,7 @@ enum class EmitterTarget {
 
 // p̂(x) at a camera prefix, and the connection value it was taken from.
 struct EmitterTargetValue {
-  Rgb value;             // RenderServices::connect at x, with the target's visibility
+  Rgb value;             // RenderServices::connect at x, unweighted, with the target's visibility
   double density = 0.0;  // p̂(x) = value's largest channel × q(x)
 };
 

@@ -5,10 +5,11 @@
 // one a reservoir keeps of M candidates X_i ~ q (emitter_resampling.h), weighted by RIS's
 // contribution weight:
 //     <I_j> = Σ_t [ w_{0,t} f / p_{0,t} + f_w(Y) W ],   W = (1/M) Σ_i p̂(X_i)/q(X_i) / p̂(Y),
-// with f_w = w_{1,t} f the MIS-weighted next event and p̂ its largest channel, unshadowed or with
-// visibility (target). The MIS counts are pt's, n_{0,t} = n_{1,t} = 1 with p_{1,t} = q: the
-// weights sum to 1 for any counts, and RIS estimates the share w_{1,t} f unbiasedly because p̂ > 0
-// wherever f_w > 0. With M = 1 it is pt up to rounding (the same streams).
+// with f_w = w_{1,t} f the MIS-weighted next event and p̂ the largest channel of f without the
+// weight, unshadowed or with visibility (target). The MIS counts are pt's, n_{0,t} = n_{1,t} = 1
+// with p_{1,t} = q: the weights sum to 1 for any counts, and RIS estimates the share w_{1,t} f
+// unbiasedly because p̂ > 0 wherever f_w > 0. With M = 1 it is pt up to rounding (the same
+// streams).
 // Parameters: M (candidates, default 16), target (unshadowed, or visible: a shadow ray each).
 #include "estimators/scene/ris.h"
 

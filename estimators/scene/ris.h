@@ -19,7 +19,7 @@ struct SceneRisConfig {
 // The counts of path tracing (pt.cpp): one emitter hit and one next event per camera vertex.
 // RIS's density of Y has no closed form, so the balance heuristic weighs the next event as one
 // sample of the emitters' own density q; any such choice sums to 1 with the emitter hit's weight,
-// and RIS estimates whatever share w_{1,t} f it is given (its target includes the weight).
+// and RIS estimates whatever share w_{1,t} f it is given (its target is > 0 wherever that is).
 StrategyCounts next_event_counts();
 
 std::shared_ptr<const SceneEstimator> make_scene_ris(const SceneRisConfig& config);
