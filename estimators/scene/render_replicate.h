@@ -6,7 +6,8 @@
 //   3. splat the pool to the camera (t = 1) if it samples light tracing;
 //   4. trace every pixel's camera subpath, if it samples any strategy with t >= 2, and for each
 //      prefix y_0 .. y_{t-1} add the prefix's emitter hit (s = 0) if it samples those, then the
-//      pass's connections.
+//      pass's connections;
+//   5. let the pass finish the iteration with what needs other pixels (restir's reuse).
 #pragma once
 
 #include <atomic>

@@ -13,8 +13,8 @@
 //   - which light-carrying paths it can sample at all (samples_all_paths; an image that misses
 //     some is never a reference for them),
 //   - and, through the ScenePass it makes per replicate: per-iteration preparation from the
-//     pool (where a guided estimator builds its distributions) and the connections of one
-//     camera prefix.
+//     pool (where a guided estimator builds its distributions), the connections of one
+//     camera prefix, and what needs other pixels' camera vertices (spatial reuse).
 // The loop that runs it is estimators/scene/render_replicate.h; the renderer's services (tracing
 // with the run's streams, connect() with its MIS weight, splats, strategy tallies, counters) are
 // all an estimator uses. Each estimator is a file in estimators/scene/ named after its registry
