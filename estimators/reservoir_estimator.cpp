@@ -211,6 +211,22 @@ void ReservoirEstimator::append_terms(const ReservoirBatch& batch, std::uint32_t
   }
 }
 
+ResamplingRecord ReservoirEstimator::choice_record(const ReservoirBatch& batch,
+                                                   std::uint32_t sample, std::uint32_t t,
+                                                   std::span<const ReservoirSample> finals) const {
+  const std::uint32_t m = config_.M;
+  const std::span<const double> target = batch.target.subspan(std::size_t{t} * m, m);
+  const std::span<const double> q = batch.light_pdf.subspan(batch.pools.pool_start(t), m);
+  ResamplingRecord record{.sample = sample, .pmf = std::vector<double>(m), .draws = {}};
+  double sum = 0.0;
+  for (std::uint32_t j = 0; j < m; ++j) sum += record.pmf[j] = target[j] / q[j];
+  for (double& p : record.pmf) p = sum > 0.0 ? p / sum : 0.0;
+  for (const ReservoirSample& s : finals) {
+    if (s.index != Reservoir::kEmpty && !std::isnan(s.W)) record.draws.push_back(s.index);
+  }
+  return record;
+}
+
 void ReservoirEstimator::enumerate(
     const ReservoirBatch& batch, std::uint32_t i,
     const std::function<void(double, std::span<const Term>)>& visit) const {
@@ -270,8 +286,10 @@ void ReservoirEstimator::estimate_part(const BatchContext& ctx, PathWorkspace& p
   scratch.term_offsets.assign(1, 0);
   scratch.pairs.clear();
   for (std::uint32_t t = 0; t < n; ++t) {
-    append_terms(batch, t, std::span(finals).subspan(std::size_t{t} * K, K), scratch.terms);
+    const std::span<const ReservoirSample> own = std::span(finals).subspan(std::size_t{t} * K, K);
+    append_terms(batch, t, own, scratch.terms);
     close_sample_terms(scratch, batch.pools.pool_start(t), t);
+    if (ctx.log != nullptr) ctx.log->push_back(choice_record(batch, ctx.first_sample + t, t, own));
   }
   sum_terms(ctx, paths, scratch, config_.M, estimates);
 }

@@ -114,6 +114,10 @@ class ReservoirEstimator final : public Estimator {
   // Sample t's terms from its final reservoirs.
   void append_terms(const ReservoirBatch& batch, std::uint32_t t,
                     std::span<const ReservoirSample> finals, std::vector<Term>& terms) const;
+  // What `pcbench replay` shows of sample t: its first reservoir's choice probabilities over its
+  // M candidates, w_j / Σ w, and the pool paths its K final reservoirs hold.
+  ResamplingRecord choice_record(const ReservoirBatch& batch, std::uint32_t sample, std::uint32_t t,
+                                 std::span<const ReservoirSample> finals) const;
 
   ReservoirConfig config_;
   ResamplingEstimator pools_;  // samples the pools and evaluates the targets, as the family does

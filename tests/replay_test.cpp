@@ -55,6 +55,24 @@ TEST(Replay, ShowsThePoolPAndTheDraws) {
   EXPECT_NEAR(sum, r.estimate, 1e-12 * std::fabs(r.estimate));
 }
 
+// A reservoir's choices: P is w_j / Σw over the sample's M candidates and the draws the pool
+// paths its K reservoirs kept, so ris's estimate (1/K) Σ_k f(Y_k) W_k / p(y), W = Σw / (M p̂(Y)),
+// is pcbpt's form Σ_k f / (p(x) p(y)) / (M K P) over the draws.
+TEST(Replay, ShowsAReservoirsChoices) {
+  const RunPlan plan =
+      plan_single("ris", "genz-gaussian", {{"M", {"6"}}, {"K", {"3"}}, {"target", {"f"}}}, 300, 2);
+  const ReplayedSample r = replay_sample(plan, 1, 0, 7);
+  ASSERT_EQ(r.pool.size(), 6u);
+  ASSERT_EQ(r.pmf.size(), 6u);
+  ASSERT_EQ(r.draws.size(), 3u);
+  double total = 0.0, sum = 0.0;
+  for (double p : r.pmf) total += p;
+  EXPECT_NEAR(total, 1.0, 1e-12);
+  for (std::uint32_t j : r.draws) sum += r.pool[j].contribution / (6.0 * 3.0 * r.pmf[j]);
+  EXPECT_NEAR(sum, r.estimate, 1e-12 * std::fabs(r.estimate));
+  EXPECT_GT(r.estimate, 0.0);
+}
+
 TEST(Replay, TheFirstNonfiniteSampleReplaysAsNonfinite) {
   // sqrt of a negative number where x0 < 0.001: NaN in about 1 sample in 1000.
   const RunPlan plan =
