@@ -40,6 +40,31 @@ Emitters::Emitters(const SceneDescription& scene)
     }
   }
   if (!cdf_.empty()) cdf_.back() = 1.0;
+  for (Entry& e : entries_) {
+    if (!e.point_light) e.normal = triangle_normal(scene.triangles[e.index]);
+  }
+  // About two entries per bucket.
+  const std::size_t buckets = std::max<std::size_t>(1, 2 * entries_.size());
+  guide_.resize(buckets + 1);
+  for (std::size_t b = 0; b <= buckets; ++b) {
+    const double u = static_cast<double>(b) / static_cast<double>(buckets);
+    guide_[b] =
+        static_cast<std::uint32_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
+  }
+}
+
+std::size_t Emitters::entry_for(double u_select) const {
+  const std::size_t buckets = guide_.size() - 1;
+  const std::size_t b = std::min(buckets - 1, static_cast<std::size_t>(u_select * buckets));
+  const auto first = cdf_.begin() + guide_[b];
+  const auto last = cdf_.begin() + std::min<std::size_t>(cdf_.size(), guide_[b + 1] + 1);
+  const std::size_t i = std::upper_bound(first, last, u_select) - cdf_.begin();
+  // The bucket holds the answer unless u_select * buckets rounded across a bucket's edge: then
+  // the search of the whole cdf, so the entry is always upper_bound's.
+  const bool found =
+      (i == 0 || cdf_[i - 1] <= u_select) && (i == cdf_.size() || cdf_[i] > u_select);
+  if (found) return i;
+  return std::upper_bound(cdf_.begin(), cdf_.end(), u_select) - cdf_.begin();
 }
 
 double Emitters::pdf_area(std::uint32_t triangle) const {
@@ -47,8 +72,7 @@ double Emitters::pdf_area(std::uint32_t triangle) const {
 }
 
 EmitterPoint Emitters::sample(double u_select, double u1, double u2) const {
-  const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u_select);
-  const Entry& e = entries_[std::min<std::size_t>(it - cdf_.begin(), entries_.size() - 1)];
+  const Entry& e = entries_[std::min(entry_for(u_select), entries_.size() - 1)];
   EmitterPoint point;
   if (e.point_light) {
     const PointLight& light = scene_.point_lights[e.index];
@@ -67,7 +91,7 @@ EmitterPoint Emitters::sample(double u_select, double u1, double u2) const {
     b = 1.0 - b;
   }
   point.position = t.p0 + a * (t.p1 - t.p0) + b * (t.p2 - t.p0);
-  point.normal = triangle_normal(t);
+  point.normal = e.normal;
   point.radiance = t.emission;
   point.pdf_area = triangle_pdf_area_[e.index];
   point.index = e.index;

@@ -39,10 +39,18 @@ class Emitters {
     bool point_light = false;
     std::uint32_t index = 0;  // triangle or point light
     double probability = 0.0;
+    Vec3 normal = {};  // the triangle's, computed once (zero for a point light)
   };
+  // The entry u_select picks: the first whose cdf exceeds it, as std::upper_bound over the whole
+  // cdf finds it, searched within the guide table's bucket of u_select (a few entries, where a
+  // search of all of them mispredicts a branch per level).
+  std::size_t entry_for(double u_select) const;
+
   const SceneDescription& scene_;
   std::vector<Entry> entries_;
   std::vector<double> cdf_;
+  // guide_[b]: the first entry whose cdf exceeds b / G, for b = 0 .. G (G = guide_.size() - 1).
+  std::vector<std::uint32_t> guide_;
   std::vector<double> triangle_pdf_area_;  // per triangle, 0 for a non-emitter
   std::uint32_t point_light_count_ = 0;
 };
