@@ -7,7 +7,8 @@ Usage:
 
 Runs the commands of commands() below (every scene estimator, pcbpt with each visibility and
 guide, also in its two named designs, and the scene controls on the four built-in scenes at
-32x32; the whole default suite at a small budget; ris, restir and the reuse controls) with 1 thread and with 2, and hashes per run
+32x32; the whole default suite at a small budget; ris, restir and the reuse controls, analytic
+and on scenes) with 1 thread and with 2, and hashes per run
 what the estimators determine:
   - the per-replicate estimates and their summaries (mean_abs, n, nonfinite, largest_abs,
     nonzero, effective_samples), the run's mean, standard error and mean_abs, the counters
@@ -71,6 +72,14 @@ def commands(binary):
         "reservoir": ["-e", "ris,restir,ctl-naive-reuse,ctl-reuse-unshadowed",
                       "-i", "blocker,linear-emitter,genz-oscillatory", "-n", "2048", "-r", "4",
                       "-s", "1"],
+        # Their scene forms and the scene reuse controls (ris, restir with each weighting and
+        # visible targets).
+        "scene-reservoir": ["-e", "ris,restir,ctl-scene-naive-reuse,ctl-scene-reuse-unshadowed",
+                            "-i", "cornell,door-ajar,many-lights", "-p", "resolution=32"]
+                           + scene_budget,
+        "scene-reservoir-forms": ["-e", "restir", "-i", "cornell", "-p", "resolution=32",
+                                  "-p", "weights=pairwise,count", "-p", "target=unshadowed,visible"]
+                                 + scene_budget,
         "reservoir-rounds": ["-e", "restir", "-i", "blocker", "-p", "rounds=2",
                              "-p", "weights=balance,pairwise,count", "-p", "target=approx,f",
                              "-n", "2048", "-r", "4", "-s", "1"],
