@@ -199,7 +199,9 @@ class Restir final : public SceneEstimator {
   explicit Restir(const SceneRestirConfig& config) : config_(config) {}
 
   std::uint32_t pool_size(const Scene&) const override { return 0; }
-  StrategyCounts strategy_counts(const Scene&) const override { return next_event_counts(); }
+  StrategyCounts strategy_counts(const Scene&) const override {
+    return next_event_counts(config_.ris.candidates);
+  }
   bool samples_all_paths(const Scene& scene) const override { return !needs_light_subpaths(scene); }
   std::unique_ptr<ScenePass> begin_replicate(const RenderServices& services) const override {
     return std::make_unique<RestirPass>(services, config_);

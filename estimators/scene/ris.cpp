@@ -6,10 +6,10 @@
 // contribution weight:
 //     <I_j> = Σ_t [ w_{0,t} f / p_{0,t} + f_w(Y) W ],   W = (1/M) Σ_i p̂(X_i)/q(X_i) / p̂(Y),
 // with f_w = w_{1,t} f the MIS-weighted next event and p̂ the largest channel of f without the
-// weight, unshadowed or with visibility (target). The MIS counts are pt's, n_{0,t} = n_{1,t} = 1
-// with p_{1,t} = q: the weights sum to 1 for any counts, and RIS estimates the share w_{1,t} f
-// unbiasedly because p̂ > 0 wherever f_w > 0. With M = 1 it is pt up to rounding (the same
-// streams).
+// weight, unshadowed or with visibility (target). The MIS counts are n_{0,t} = 1 and n_{1,t} = M
+// with p_{1,t} = q (next_event_counts, ris.h): the weights sum to 1 for any counts, and RIS
+// estimates the share w_{1,t} f unbiasedly because p̂ > 0 wherever f_w > 0. With M = 1 it is pt up
+// to rounding (the same streams and counts).
 // Parameters: M (candidates, default 16), target (unshadowed, or visible: a shadow ray each).
 #include "estimators/scene/ris.h"
 
@@ -42,7 +42,9 @@ class Ris final : public SceneEstimator {
   explicit Ris(const SceneRisConfig& config) : config_(config) {}
 
   std::uint32_t pool_size(const Scene&) const override { return 0; }
-  StrategyCounts strategy_counts(const Scene&) const override { return next_event_counts(); }
+  StrategyCounts strategy_counts(const Scene&) const override {
+    return next_event_counts(config_.candidates);
+  }
   bool samples_all_paths(const Scene& scene) const override { return !needs_light_subpaths(scene); }
   std::unique_ptr<ScenePass> begin_replicate(const RenderServices& services) const override {
     return std::make_unique<RisPass>(services, config_);
@@ -54,8 +56,11 @@ class Ris final : public SceneEstimator {
 
 }  // namespace
 
-StrategyCounts next_event_counts() {
-  return {.emitter_hit = 1.0, .next_event = 1.0, .connection = 0.0, .light_tracing = 0.0};
+StrategyCounts next_event_counts(std::uint32_t candidates) {
+  return {.emitter_hit = 1.0,
+          .next_event = static_cast<double>(candidates),
+          .connection = 0.0,
+          .light_tracing = 0.0};
 }
 
 std::shared_ptr<const SceneEstimator> make_scene_ris(const SceneRisConfig& config) {

@@ -16,11 +16,14 @@ struct SceneRisConfig {
   EmitterTarget target = EmitterTarget::kUnshadowed;
 };
 
-// The counts of path tracing (pt.cpp): one emitter hit and one next event per camera vertex.
-// RIS's density of Y has no closed form, so the balance heuristic weighs the next event as one
-// sample of the emitters' own density q; any such choice sums to 1 with the emitter hit's weight,
-// and RIS estimates whatever share w_{1,t} f it is given (its target is > 0 wherever that is).
-StrategyCounts next_event_counts();
+// The MIS counts: one emitter hit per camera vertex, and the next event counted as `candidates`
+// samples of the emitters' own density q, as if every candidate were kept. RIS's density of Y
+// has no closed form, so the balance heuristic needs a stand-in; any counts sum to 1 with the
+// emitter hit's weight, and RIS estimates whatever share w_{1,t} f it is given (its target is
+// > 0 wherever that is). Counting the M candidates gives a light the next event reaches with M
+// tries the weight M tries earn, not one: with one, a dim light that BSDF sampling hits keeps
+// most of its weight in the noisy emitter hit. With M = 1 these are pt's counts.
+StrategyCounts next_event_counts(std::uint32_t candidates);
 
 std::shared_ptr<const SceneEstimator> make_scene_ris(const SceneRisConfig& config);
 
