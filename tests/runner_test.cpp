@@ -7,8 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "base/tally.h"
 #include "harness/plan/plan.h"
-#include "harness/run/tally.h"
 #include "harness/verify/statistics.h"
 #include "integrands/point_integrand.h"
 #include "tests/test_support.h"

@@ -1,4 +1,4 @@
-#include "harness/run/tally.h"
+#include "base/tally.h"
 
 #include <gtest/gtest.h>
 

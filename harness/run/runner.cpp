@@ -13,8 +13,8 @@
 
 #include <fmt/format.h>
 
+#include "base/tally.h"
 #include "harness/run/diagnostics.h"
-#include "harness/run/tally.h"
 
 namespace pcbench {
 
