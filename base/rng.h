@@ -79,9 +79,15 @@ class RandomStream {
   // Uniform double in [0, 1) with 53 random bits; never returns 1.
   double uniform() {
     if (next_ > 2) refill();  // needs two words
-    const std::uint64_t hi = block_[next_];
-    const std::uint64_t lo = block_[next_ + 1];
+    const double u = uniform_of(block_, next_);
     next_ += 2;
+    return u;
+  }
+  // The uniform that words `word` and `word + 1` of `block` give: a stream's first two uniforms
+  // are uniform_of(first block, 0) and uniform_of(first block, 2), without a stream.
+  static double uniform_of(const PhiloxCounter& block, int word) {
+    const std::uint64_t hi = block[static_cast<std::size_t>(word)];
+    const std::uint64_t lo = block[static_cast<std::size_t>(word) + 1];
     return static_cast<double>(((hi << 32) | lo) >> 11) * 0x1.0p-53;
   }
 

@@ -7,12 +7,12 @@
 #include <numeric>
 
 #include "base/rng.h"
+#include "base/tally.h"
 #include "estimators/discrete_sampler.h"
 #include "estimators/registry.h"
 #include "estimators/resampling_step.h"
 #include "harness/plan/plan.h"
 #include "harness/run/runner.h"
-#include "harness/run/tally.h"
 #include "integrands/genz.h"
 #include "integrands/point_integrand.h"
 #include "integrands/registry.h"

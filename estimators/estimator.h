@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "base/rng.h"
+#include "base/tally.h"
 #include "estimators/discrete_sampler.h"
 #include "estimators/resampling_step.h"
 #include "integrands/integrand.h"
@@ -89,6 +90,17 @@ class Estimator {
   // Writes estimates[i] for camera sample ctx.first_sample + i, i < ctx.sample_count.
   virtual void estimate_batch(const BatchContext& ctx, PathWorkspace& paths,
                               EstimatorScratch& scratch, std::span<double> estimates) const = 0;
+
+  // The runner's fast path: adds the estimates of ctx's samples to `tally` (sample
+  // ctx.first_sample + i as index) and their magnitudes to `magnitudes`, in sample order and
+  // with the same bits as estimate_batch's would be added, and counts the same work, without
+  // the generic steps (stored paths, pairs, terms) where an estimator's samples need none of
+  // them. Returns false, having done nothing, where there is no such path (the default); the
+  // caller then calls estimate_batch. Never records a resampling log.
+  virtual bool tally_batch(const BatchContext& /*ctx*/, PathWorkspace& /*paths*/, Tally& /*tally*/,
+                           CompensatedSum& /*magnitudes*/) const {
+    return false;
+  }
 
   // Whether the per-sample estimates of one replicate are independent (no shared pool): only
   // then is a within-replicate variance meaningful (docs/reference/INTERFACE.md, "replicate").

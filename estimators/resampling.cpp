@@ -34,6 +34,29 @@ void ResamplingEstimator::estimate_batch(const BatchContext& ctx, PathWorkspace&
   }
 }
 
+bool ResamplingEstimator::tally_batch(const BatchContext& ctx, PathWorkspace& paths, Tally& tally,
+                                      CompensatedSum& magnitudes) const {
+  if (!step_.connects_every_path_once() || config_.pool != PoolMode::kFresh ||
+      step_.needs_foreign_pool() || ctx.log != nullptr) {
+    return false;
+  }
+  const std::uint32_t m = config_.step.M;
+  if (!paths.tally_every_path(ctx.stream(StreamPurpose::kLightPool),
+                              ctx.stream(StreamPurpose::kCameraPath), ctx.first_sample,
+                              ctx.sample_count, m, step_.every_path_coefficient(), tally,
+                              magnitudes)) {
+    return false;
+  }
+  // What prepare() and estimate_every_path() count.
+  const std::uint64_t candidates = std::uint64_t{ctx.sample_count} * m;
+  if (ctx.counters != nullptr) {
+    ctx.counters->camera_paths += ctx.sample_count;
+    ctx.counters->light_paths += candidates;
+    ctx.counters->connections += candidates;
+  }
+  return true;
+}
+
 PreparedPools ResamplingEstimator::prepare(const BatchContext& ctx, PathWorkspace& paths,
                                            EstimatorScratch& scratch,
                                            bool with_contributions) const {
@@ -193,9 +216,7 @@ void ResamplingEstimator::estimate_every_path(const BatchContext& ctx, PathWorks
          ++d) {
       const double f = values[d];
       if (f == 0.0) continue;
-      const double weight = coefficient / (p_x[pairs[d].light] * p_y[i]);
-      sum += f * weight;
-      magnitude += std::fabs(f) * weight;
+      add_connection_term(f, coefficient, p_x[pairs[d].light], p_y[i], sum, magnitude);
     }
     estimates[i] = sum;
     if (with_magnitudes) ctx.magnitudes[i] = magnitude;
@@ -271,9 +292,7 @@ void sum_terms(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& 
       // f = 0 contributes 0 whatever its weight; a NaN weight (no valid P) makes the sample NaN
       // whatever f is.
       if (f == 0.0 && !std::isnan(coefficient)) continue;
-      const double weight = coefficient / (p_x[scratch.pairs[d].light] * p_y[i]);
-      sum += f * weight;
-      magnitude += std::fabs(f) * weight;
+      add_connection_term(f, coefficient, p_x[scratch.pairs[d].light], p_y[i], sum, magnitude);
     }
     estimates[i] = sum;
     if (with_magnitudes) ctx.magnitudes[i] = magnitude;

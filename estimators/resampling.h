@@ -80,6 +80,10 @@ class ResamplingEstimator final : public Estimator {
 
   void estimate_batch(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& scratch,
                       std::span<double> estimates) const override;
+  // Plain and vertex connection on fresh pools (every path once, no log): the workspace's fused
+  // loop (PathWorkspace::tally_every_path), where it has one.
+  bool tally_batch(const BatchContext& ctx, PathWorkspace& paths, Tally& tally,
+                   CompensatedSum& magnitudes) const override;
   bool samples_independent() const override { return config_.pool == PoolMode::kFresh; }
 
   const ResamplingConfig& config() const { return config_; }

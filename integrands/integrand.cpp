@@ -32,4 +32,9 @@ std::vector<double> PathWorkspace::coordinates(PathSide, std::uint32_t) const {
   return {};
 }
 
+bool PathWorkspace::tally_every_path(const StreamId&, const StreamId&, std::uint32_t, std::uint32_t,
+                                     std::uint32_t, double, Tally&, CompensatedSum&) {
+  return false;
+}
+
 }  // namespace pcbench

@@ -7,6 +7,7 @@
 // one call, so that no virtual call sits in a per-sample loop.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "base/rng.h"
+#include "base/tally.h"
 
 namespace pcbench {
 
@@ -41,6 +43,19 @@ struct PathPair {
   std::uint32_t light = 0;
   std::uint32_t camera = 0;
 };
+
+// One term of a camera sample's estimate, as the family's estimators sum them
+// (estimators/resampling.cpp): a connection of value f with coefficient c between paths of
+// densities p_x and p_y adds c f / (p_x p_y) to the estimate and c |f| / (p_x p_y) to its
+// magnitude (the estimate of ∫∫ |f|). Callers skip terms with f == 0. Written once, so that the
+// fused loop of a workspace (PathWorkspace::tally_every_path) and the estimators' sums are the
+// same operations, bit for bit.
+inline void add_connection_term(double f, double coefficient, double p_x, double p_y, double& sum,
+                                double& magnitude) {
+  const double weight = coefficient / (p_x * p_y);
+  sum += f * weight;
+  magnitude += std::fabs(f) * weight;
+}
 
 // Per-thread storage of the paths sampled for one batch. Holds no state between batches beyond
 // reusable memory, so results do not depend on which thread's workspace serves a batch.
@@ -79,6 +94,20 @@ class PathWorkspace {
   // The coordinates of sampled path `index` of `side`, for `pcbench replay` to print (a
   // debugging aid, never used by an estimate). Default: none known.
   virtual std::vector<double> coordinates(PathSide side, std::uint32_t index) const;
+
+  // Plain and vertex connection on fresh pools in one loop, the runner's fast path: for each
+  // camera sample s in [first_sample, first_sample + sample_count) in order, its camera path
+  // (from stream `camera` with .sample = s, .path = 0) and its `pool_size` light paths (from
+  // stream `light` with .sample = s, .path = j), each light path connected once; the estimate
+  // Σ_j of add_connection_term(f(x_j, y), coefficient, p(x_j), p(y)) over the f != 0 (from 0, in
+  // j order) goes to `tally` as sample s and its magnitude to `magnitudes`. These are the numbers
+  // that sample_paths, connect and the estimator's sums give, without storing any path; the
+  // workspace's sampled paths are left as they were. `light` and `camera` must share their key.
+  // Returns false, having done nothing, where the workspace has no such loop (the default).
+  virtual bool tally_every_path(const StreamId& light, const StreamId& camera,
+                                std::uint32_t first_sample, std::uint32_t sample_count,
+                                std::uint32_t pool_size, double coefficient, Tally& tally,
+                                CompensatedSum& magnitudes);
 };
 
 class Integrand {

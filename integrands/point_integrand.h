@@ -30,6 +30,7 @@
 
 #include "base/params.h"
 #include "base/rng.h"
+#include "base/tally.h"
 #include "integrands/integrand.h"
 
 namespace pcbench {
@@ -82,8 +83,7 @@ class PointWorkspace final : public PathWorkspace {
       }
       philox4x32_10_many(std::span(counters).first(group), key, std::span(blocks).first(group));
       for (std::size_t g = 0; g < group; ++g, coords += dims, ++pdfs) {
-        RandomStream rng(key, counters[g], blocks[g]);
-        *pdfs = sample_one(which, rng, coords, dims);
+        *pdfs = sample_one(which, key, counters[g], blocks[g], coords, dims);
       }
       done += group;
     }
@@ -109,6 +109,85 @@ class PointWorkspace final : public PathWorkspace {
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       values[i] = model_.f(light + pairs[i].light * dims_[0], camera + pairs[i].camera * dims_[1]);
     }
+  }
+
+  bool tally_every_path(const StreamId& light, const StreamId& camera, std::uint32_t first_sample,
+                        std::uint32_t sample_count, std::uint32_t pool_size, double coefficient,
+                        Tally& tally, CompensatedSum& magnitudes) override {
+    const PhiloxKey key = RandomStream::key_of(light);
+    if (key != RandomStream::key_of(camera)) return false;
+    // A sample's streams are its pool's, then its camera path's: their first blocks are computed
+    // for a group of samples at once, as sample_paths computes them.
+    const std::size_t width = std::size_t{pool_size} + 1;
+    const std::size_t group = std::max<std::size_t>(1, kFusedPaths / width);
+    fused_.counters.resize(group * width);
+    fused_.blocks.resize(group * width);
+    fused_.x.resize(dims_[0]);
+    fused_.y.resize(dims_[1]);
+    StreamId light_id = light;
+    StreamId camera_id = camera;
+    camera_id.path = 0;
+    const std::uint32_t end = first_sample + sample_count;
+    for (std::uint32_t start = first_sample; start < end;) {
+      const auto samples = static_cast<std::uint32_t>(std::min<std::size_t>(group, end - start));
+      PhiloxCounter* first = fused_.counters.data();
+      for (std::uint32_t s = start; s < start + samples; ++s) {
+        light_id.sample = camera_id.sample = s;
+        for (light_id.path = 0; light_id.path < pool_size; ++light_id.path) {
+          *first++ = RandomStream::first_counter(light_id);
+        }
+        *first++ = RandomStream::first_counter(camera_id);
+      }
+      const std::size_t paths = samples * width;
+      philox4x32_10_many(std::span(fused_.counters).first(paths), key,
+                         std::span(fused_.blocks).first(paths));
+      // One loop samples, connects and tallies, so that the tally's running sums (a chain of
+      // dependent divisions) overlap the next sample's work.
+      const PhiloxCounter* counter = fused_.counters.data();
+      const PhiloxCounter* block = fused_.blocks.data();
+      double* const x = fused_.x.data();
+      double* const y = fused_.y.data();
+      const std::size_t light_dims = dims_[0];
+      const std::size_t camera_dims = dims_[1];
+      CompensatedSum magnitude_sum = magnitudes;
+      if (pool_size == 1) {
+        // plain: no pool to loop over.
+        tally.add_each(start, samples, [&] {
+          const double p_y =
+              sample_one(PathSide::kCamera, key, counter[1], block[1], y, camera_dims);
+          const double p_x = sample_one(PathSide::kLight, key, counter[0], block[0], x, light_dims);
+          counter += 2;
+          block += 2;
+          const double f = model_.f(x, y);
+          double sum = 0.0;
+          double magnitude = 0.0;
+          if (f != 0.0) add_connection_term(f, coefficient, p_x, p_y, sum, magnitude);
+          magnitude_sum.add(magnitude);
+          return sum;
+        });
+      } else {
+        tally.add_each(start, samples, [&] {
+          const double p_y = sample_one(PathSide::kCamera, key, counter[pool_size],
+                                        block[pool_size], y, camera_dims);
+          double sum = 0.0;
+          double magnitude = 0.0;
+          for (std::uint32_t j = 0; j < pool_size; ++j) {
+            const double p_x =
+                sample_one(PathSide::kLight, key, counter[j], block[j], x, light_dims);
+            const double f = model_.f(x, y);
+            if (f == 0.0) continue;
+            add_connection_term(f, coefficient, p_x, p_y, sum, magnitude);
+          }
+          counter += width;
+          block += width;
+          magnitude_sum.add(magnitude);
+          return sum;
+        });
+      }
+      magnitudes = magnitude_sum;
+      start += samples;
+    }
+    return true;
   }
 
   std::vector<double> coordinates(PathSide which, std::uint32_t path) const override {
@@ -137,27 +216,54 @@ class PointWorkspace final : public PathWorkspace {
     std::vector<double> pdfs;
   };
 
+  // The fused loop's streams (tally_every_path): their first counters and blocks, and one
+  // light and one camera point.
+  struct Fused {
+    std::vector<PhiloxCounter> counters;
+    std::vector<PhiloxCounter> blocks;
+    std::vector<double> x;
+    std::vector<double> y;
+  };
+
   static constexpr std::size_t kGroup = 64;  // paths whose first blocks are computed together
+  // The same for the fused loop, which computes a sample's light and camera paths' blocks
+  // together: 64 samples of plain.
+  static constexpr std::size_t kFusedPaths = 128;
 
   static std::size_t index(PathSide side) { return side == PathSide::kLight ? 0 : 1; }
 
-  double sample_one(PathSide which, RandomStream& rng, double* out, std::size_t dims) const {
+  // One path of side `which` into `out`, from the stream of first counter `counter` under `key`
+  // whose first block is `block`; returns its density. Uniform sampling takes the stream's
+  // uniforms in order: the first two straight from the first block (what the stream would
+  // return), so that a path of one or two dimensions needs no stream object.
+  double sample_one(PathSide which, const PhiloxKey& key, const PhiloxCounter& counter,
+                    const PhiloxCounter& block, double* out, std::size_t dims) const {
     if (which == PathSide::kLight) {
-      if constexpr (requires { model_.sample_light(rng, out); }) {
+      if constexpr (requires(RandomStream & rng) { model_.sample_light(rng, out); }) {
+        RandomStream rng(key, counter, block);
         return model_.sample_light(rng, out);
       }
     } else {
-      if constexpr (requires { model_.sample_camera(rng, out); }) {
+      if constexpr (requires(RandomStream & rng) { model_.sample_camera(rng, out); }) {
+        RandomStream rng(key, counter, block);
         return model_.sample_camera(rng, out);
       }
     }
-    for (std::size_t d = 0; d < dims; ++d) out[d] = rng.uniform();
+    if (dims > 0) out[0] = RandomStream::uniform_of(block, 0);
+    if (dims > 1) out[1] = RandomStream::uniform_of(block, 2);
+    if (dims > 2) {
+      RandomStream rng(key, counter, block);
+      rng.uniform();
+      rng.uniform();
+      for (std::size_t d = 2; d < dims; ++d) out[d] = rng.uniform();
+    }
     return 1.0;
   }
 
   Model model_;
   std::size_t dims_[2];
   Side sides_[2];
+  Fused fused_;
 };
 
 template <typename Model>

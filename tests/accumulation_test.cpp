@@ -18,8 +18,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "base/tally.h"
 #include "harness/run/runner.h"
-#include "harness/run/tally.h"
 
 namespace pcbench {
 namespace {

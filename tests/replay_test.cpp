@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "base/tally.h"
 #include "harness/commands/cli.h"
-#include "harness/run/tally.h"
 #include "tests/test_support.h"
 
 namespace pcbench {

@@ -3,14 +3,22 @@
 #include <gtest/gtest.h>
 #include <oneapi/tbb/global_control.h>
 
+#include <bit>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
+#include <map>
+#include <memory>
 #include <stdexcept>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
+#include "base/tally.h"
 #include "harness/plan/plan.h"
-#include "harness/run/tally.h"
 #include "harness/verify/statistics.h"
 #include "integrands/point_integrand.h"
+#include "integrands/registry.h"
 #include "tests/test_support.h"
 
 namespace pcbench {
@@ -112,6 +120,179 @@ TEST(RunnerNonfinite, CountedLocatedAndTheRunMarkedInvalid) {
   EXPECT_EQ(rep.n, 1000u);  // non-finite samples are counted, not dropped
   EXPECT_FALSE(std::isfinite(rep.estimate));
   EXPECT_NE(result.error.find("replicate"), std::string::npos);
+}
+
+// The runner's fast path (Estimator::tally_batch: plain and vc-all on fresh pools, one fused
+// loop in the workspace) against the generic path (estimate_batch, then the runner's tally).
+
+std::uint64_t bits(double x) {
+  return std::bit_cast<std::uint64_t>(x);
+}
+
+void expect_same_tally(const Tally& a, const Tally& b, const std::string& where) {
+  EXPECT_EQ(a.count(), b.count()) << where;
+  EXPECT_EQ(a.nonfinite_count(), b.nonfinite_count()) << where;
+  EXPECT_EQ(a.first_nonfinite_sample(), b.first_nonfinite_sample()) << where;
+  EXPECT_EQ(bits(a.sum()), bits(b.sum())) << where;
+  EXPECT_EQ(bits(a.mean()), bits(b.mean())) << where;
+  EXPECT_EQ(bits(a.variance_of_finite()), bits(b.variance_of_finite())) << where;
+  EXPECT_EQ(a.largest().sorted(), b.largest().sorted()) << where;
+  EXPECT_EQ(a.nonzero_count(), b.nonzero_count()) << where;
+  EXPECT_EQ(bits(a.effective_sample_size()), bits(b.effective_sample_size())) << where;
+  EXPECT_EQ(bits(a.sum_of_squares()), bits(b.sum_of_squares())) << where;
+}
+
+// Each sample's estimate and magnitude from the fast path, alone (a tally of that one sample,
+// whose sum is the sample: 0 + x = x, and no estimate is -0), equal the generic path's bit for
+// bit; and a whole batch tallied by the fast path is the batch's estimates tallied in order, with
+// the same work counted. Returns how many of the estimates compared were not finite, and 0.
+std::pair<std::uint64_t, std::uint64_t> expect_fast_path_matches(const RunPlan& plan,
+                                                                 const std::string& name) {
+  const Estimator& estimator = *plan.made_estimator;
+  const auto generic_paths = plan.made_integrand->make_workspace();
+  const auto fast_paths = plan.made_integrand->make_workspace();
+  EstimatorScratch scratch;
+  std::uint64_t nonfinite = 0, zeros = 0;
+  for (const auto& [first, count] : {std::pair<std::uint32_t, std::uint32_t>{0, kBatchSize},
+                                     {5 * kBatchSize, kBatchSize},
+                                     {9 * kBatchSize, 77}}) {
+    const std::string where = name + " batch at " + std::to_string(first);
+    Counters generic_counters, fast_counters;
+    std::vector<double> estimates(count), magnitudes(count);
+    BatchContext ctx{.key = run_key(5, plan.stream_hash),
+                     .replicate = 3,
+                     .first_sample = first,
+                     .sample_count = count,
+                     .counters = &generic_counters};
+    ctx.magnitudes = magnitudes;
+    estimator.estimate_batch(ctx, *generic_paths, scratch, estimates);
+    Tally generic(257), fast(257);
+    CompensatedSum generic_magnitude, fast_magnitude;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      generic.add(estimates[i], first + i);
+      generic_magnitude.add(magnitudes[i]);
+    }
+    BatchContext fast_ctx = ctx;
+    fast_ctx.magnitudes = {};
+    fast_ctx.counters = &fast_counters;
+    EXPECT_TRUE(estimator.tally_batch(fast_ctx, *fast_paths, fast, fast_magnitude)) << where;
+    expect_same_tally(generic, fast, where);
+    EXPECT_EQ(bits(generic_magnitude.value()), bits(fast_magnitude.value())) << where;
+    EXPECT_EQ(generic_counters.camera_paths, fast_counters.camera_paths) << where;
+    EXPECT_EQ(generic_counters.light_paths, fast_counters.light_paths) << where;
+    EXPECT_EQ(generic_counters.connections, fast_counters.connections) << where;
+    EXPECT_EQ(generic_counters.importance_evaluations, fast_counters.importance_evaluations);
+
+    for (std::uint32_t i = 0; i < count; ++i) {
+      BatchContext one = fast_ctx;
+      one.first_sample = first + i;
+      one.sample_count = 1;
+      Tally sample;
+      CompensatedSum magnitude;
+      EXPECT_TRUE(estimator.tally_batch(one, *fast_paths, sample, magnitude));
+      EXPECT_EQ(bits(sample.sum()), bits(estimates[i])) << where << ", sample " << i;
+      // A one-term compensated sum is the term itself when finite (an infinite one gives NaN,
+      // inf - inf in the compensation, which the run's sum of magnitudes gives too).
+      CompensatedSum generic_one;
+      generic_one.add(magnitudes[i]);
+      EXPECT_EQ(bits(magnitude.value()), bits(generic_one.value())) << where << ", sample " << i;
+      if (std::isfinite(magnitudes[i])) {
+        EXPECT_EQ(bits(magnitude.value()), bits(magnitudes[i]));
+      }
+      nonfinite += std::isfinite(estimates[i]) ? 0 : 1;
+      zeros += estimates[i] == 0.0 ? 1 : 0;
+    }
+  }
+  return {nonfinite, zeros};
+}
+
+TEST(RunnerFastPath, PerSampleValuesEqualTheGenericPath) {
+  // Every analytic integrand at its defaults (discontinuities: blocker, door, door-2d,
+  // genz-discontinuous, sparse-support; zero regions; singular values; non-uniform densities),
+  // more dimensions, and an expression with zeros, infinities and NaNs.
+  std::vector<std::pair<std::string, std::map<std::string, std::vector<std::string>>>> cases;
+  for (const IntegrandEntry& entry : integrand_registry()) {
+    if (entry.name != "expr") cases.push_back({entry.name, {}});
+  }
+  cases.push_back({"genz-gaussian", {{"light_dims", {"2"}}, {"camera_dims", {"3"}}}});
+  cases.push_back({"genz-discontinuous", {{"light_dims", {"3"}}, {"camera_dims", {"2"}}}});
+  const std::string wild = "x0 < 0.3 ? 0 : (y0 < 0.02 ? 1/0 : (y0 > 0.98 ? 0/0 : (x0 - 0.6) * y0))";
+  cases.push_back({"expr", {{"f", {wild}}, {"exact", {"0"}}}});
+  for (const auto& [integrand, params] : cases) {
+    for (const auto& [estimator, estimator_params] :
+         std::vector<std::pair<std::string, std::map<std::string, std::vector<std::string>>>>{
+             {"plain", {}}, {"vc-all", {}}, {"vc-all", {{"M", {"3"}}}}}) {
+      auto all = params;
+      all.insert(estimator_params.begin(), estimator_params.end());
+      const RunPlan plan = plan_single(estimator, integrand, all, 1000, 2);
+      const auto [nonfinite, zeros] =
+          expect_fast_path_matches(plan, estimator + " on " + integrand + " (" +
+                                             std::to_string(all.size()) + " parameters)");
+      if (integrand == "expr") {
+        // The expression's estimates include all three kinds, so they were all compared.
+        EXPECT_GT(nonfinite, 0u);
+        EXPECT_TRUE(estimator != "plain" || zeros > 0);  // a pool of one: zero 30% of the time
+      }
+    }
+  }
+}
+
+TEST(RunnerFastPath, OnlyEstimatorsThatConnectEveryPathOfAFreshPool) {
+  for (const auto& [estimator, params, expected] :
+       std::vector<std::tuple<std::string, std::map<std::string, std::vector<std::string>>, bool>>{
+           {"plain", {}, true},
+           {"vc-all", {}, true},
+           {"vc-all", {{"pool", {"shared"}}}, false},
+           {"lvc", {}, false},
+           {"pcbpt", {}, false}}) {
+    const RunPlan plan = plan_single(estimator, "genz-gaussian", params, 1000, 2);
+    const auto paths = plan.made_integrand->make_workspace();
+    Counters counters;
+    Tally tally;
+    CompensatedSum magnitudes;
+    const BatchContext ctx{.key = 1, .sample_count = 16, .counters = &counters};
+    EXPECT_EQ(plan.made_estimator->tally_batch(ctx, *paths, tally, magnitudes), expected)
+        << estimator;
+    EXPECT_EQ(tally.count(), expected ? 16u : 0u) << estimator;
+  }
+}
+
+// An estimator without the fast path: forwards everything else.
+class GenericOnly final : public Estimator {
+ public:
+  explicit GenericOnly(std::shared_ptr<const Estimator> inner) : inner_(std::move(inner)) {}
+  void estimate_batch(const BatchContext& ctx, PathWorkspace& paths, EstimatorScratch& scratch,
+                      std::span<double> estimates) const override {
+    inner_->estimate_batch(ctx, paths, scratch, estimates);
+  }
+  bool samples_independent() const override { return inner_->samples_independent(); }
+
+ private:
+  std::shared_ptr<const Estimator> inner_;
+};
+
+TEST(RunnerFastPath, RunsEqualTheGenericRunBitForBit) {
+  for (const auto& [estimator, integrand] : std::vector<std::pair<std::string, std::string>>{
+           {"plain", "genz-gaussian"}, {"plain", "door"}, {"vc-all", "genz-discontinuous"}}) {
+    // A ragged last chunk and batch; checkpoints inside chunks.
+    const RunPlan fast = plan_single(estimator, integrand, {}, 70001, 3);
+    RunPlan generic = fast;
+    generic.made_estimator = std::make_shared<GenericOnly>(fast.made_estimator);
+    const RunResult a = run_with_threads(fast, 2, 7);
+    const RunResult b = run_with_threads(generic, 2, 7);
+    ASSERT_EQ(a.status, RunStatus::kOk);
+    expect_same_numbers(a, b);
+    EXPECT_EQ(a.counters.camera_paths, b.counters.camera_paths);
+    EXPECT_EQ(a.counters.light_paths, b.counters.light_paths);
+    for (std::size_t r = 0; r < a.replicates.size(); ++r) {
+      const ReplicateResult& x = a.replicates[r];
+      const ReplicateResult& y = b.replicates[r];
+      EXPECT_EQ(bits(x.mean_abs), bits(y.mean_abs));
+      EXPECT_EQ(x.nonzero, y.nonzero);
+      EXPECT_EQ(bits(x.effective_samples), bits(y.effective_samples));
+      EXPECT_EQ(bits(x.largest_square_share), bits(y.largest_square_share));
+    }
+  }
 }
 
 // A model that fails inside a run, as a buggy user integrand would.

@@ -1,9 +1,15 @@
-#include "harness/run/tally.h"
+#include "base/tally.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <random>
+#include <string>
 #include <vector>
 
 #include "base/rng.h"
@@ -117,6 +123,61 @@ TEST(TallyLargest, MergeKeepsTheLargestOfBothInAnyOrder) {
   EXPECT_EQ(out[0], 104.0);
   EXPECT_EQ(out[15], 89.0);
   EXPECT_EQ(out, c.largest().sorted());
+}
+
+// The k kept are the k largest of everything added (a sort of all of them says which), for
+// capacities from 1, with ties at the cut, zeros, infinities, values spread over many decades and
+// values that share all but their lowest bits (the selection goes down to the last bit), added
+// one at a time and through add_each.
+TEST(TallyLargest, KeepsExactlyTheLargestOfAnyValues) {
+  std::mt19937_64 engine(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const std::vector<std::function<double()>> kinds = {
+      [&] { return unit(engine); },
+      [&] { return std::floor(unit(engine) * 5.0); },  // many ties, zeros
+      [&] { return std::pow(10.0, 600.0 * unit(engine) - 300.0); },
+      [&] { return 1.0 + std::ldexp(std::floor(unit(engine) * 16.0), -52); },  // last bits only
+      [&] {
+        const double u = unit(engine);
+        return u < 0.01 ? std::numeric_limits<double>::infinity() : u < 0.5 ? 0.0 : u;
+      },
+      [&] { return 3.0; }};
+  for (std::size_t kind = 0; kind < kinds.size(); ++kind) {
+    for (const std::size_t capacity : {1u, 2u, 3u, 16u, 257u}) {
+      for (const int n : {1, 5, 700, 5000}) {
+        std::vector<double> xs(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) xs[i] = (i % 3 == 0 ? -1.0 : 1.0) * kinds[kind]();
+        Tally one_by_one(capacity), each(capacity);
+        for (int i = 0; i < n; ++i) one_by_one.add(xs[i], static_cast<std::uint64_t>(i));
+        std::size_t next = 0;
+        each.add_each(0, xs.size(), [&] { return xs[next++]; });
+
+        std::vector<double> expected;
+        for (const double x : xs) {
+          if (std::isfinite(x)) expected.push_back(std::fabs(x));
+        }
+        std::sort(expected.begin(), expected.end(), std::greater<>());
+        if (expected.size() > capacity) expected.resize(capacity);
+        const std::string where = fmt::format("kind {}, capacity {}, n {}", kind, capacity, n);
+        EXPECT_EQ(one_by_one.largest().sorted(), expected) << where;
+        // add_each is add, one value after the other.
+        EXPECT_EQ(each.largest().sorted(), expected) << where;
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(each.sum()),
+                  std::bit_cast<std::uint64_t>(one_by_one.sum()))
+            << where;
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(each.variance_of_finite()),
+                  std::bit_cast<std::uint64_t>(one_by_one.variance_of_finite()))
+            << where;
+        EXPECT_EQ(each.count(), one_by_one.count()) << where;
+        EXPECT_EQ(each.nonfinite_count(), one_by_one.nonfinite_count()) << where;
+        EXPECT_EQ(each.first_nonfinite_sample(), one_by_one.first_nonfinite_sample()) << where;
+        EXPECT_EQ(each.nonzero_count(), one_by_one.nonzero_count()) << where;
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(each.effective_sample_size()),
+                  std::bit_cast<std::uint64_t>(one_by_one.effective_sample_size()))
+            << where;
+      }
+    }
+  }
 }
 
 TEST(TallyEffectiveSamples, KishSizeAndNonzeroCount) {

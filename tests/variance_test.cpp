@@ -18,9 +18,9 @@
 #include <cmath>
 #include <functional>
 
+#include "base/tally.h"
 #include "harness/plan/plan.h"
 #include "harness/run/runner.h"
-#include "harness/run/tally.h"
 #include "integrands/blocker.h"
 #include "integrands/door.h"
 #include "integrands/genz_continuous.h"

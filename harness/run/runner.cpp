@@ -13,8 +13,8 @@
 
 #include <fmt/format.h>
 
+#include "base/tally.h"
 #include "harness/run/diagnostics.h"
-#include "harness/run/tally.h"
 
 namespace pcbench {
 
@@ -195,12 +195,15 @@ void run_chunk(const ChunkJob& job, std::uint64_t task, ThreadState& state, Chun
                      .sample_count = static_cast<std::uint32_t>(
                          std::min<std::uint64_t>(kBatchSize, end - batch)),
                      .counters = &state.counters};
-    ctx.magnitudes = std::span<double>(state.magnitudes.data(), ctx.sample_count);
-    const std::span<double> estimates(state.estimates.data(), ctx.sample_count);
-    job.estimator.estimate_batch(ctx, *state.paths, state.scratch, estimates);
-    for (std::uint32_t i = 0; i < ctx.sample_count; ++i) {
-      out.tally.add(estimates[i], batch + i);
-      out.magnitude.add(ctx.magnitudes[i]);
+    // The estimator's fast path where it has one (the same numbers), else its batch of
+    // estimates, tallied here.
+    if (!job.estimator.tally_batch(ctx, *state.paths, out.tally, out.magnitude)) {
+      ctx.magnitudes = std::span<double>(state.magnitudes.data(), ctx.sample_count);
+      const std::span<double> estimates(state.estimates.data(), ctx.sample_count);
+      job.estimator.estimate_batch(ctx, *state.paths, state.scratch, estimates);
+      std::size_t next = 0;
+      out.tally.add_each(batch, ctx.sample_count, [&] { return estimates[next++]; });
+      for (std::uint32_t i = 0; i < ctx.sample_count; ++i) out.magnitude.add(ctx.magnitudes[i]);
     }
     // Checkpoints are powers of two >= 1024 (multiples of the batch size) and N: they fall on
     // batch ends.

@@ -8,7 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "harness/run/tally.h"
+#include "base/tally.h"
 #include "harness/verify/image_statistics.h"
 #include "harness/verify/statistics.h"
 

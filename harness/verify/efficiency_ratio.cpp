@@ -6,8 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "base/tally.h"
 #include "harness/run/interleaved_runs.h"
-#include "harness/run/tally.h"
 
 namespace pcbench {
 

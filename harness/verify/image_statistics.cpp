@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "harness/run/tally.h"
+#include "base/tally.h"
 #include "harness/verify/statistics.h"
 
 namespace pcbench {

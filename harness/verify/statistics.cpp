@@ -12,8 +12,8 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "base/tally.h"
 #include "harness/run/diagnostics.h"
-#include "harness/run/tally.h"
 #include "harness/verify/rounding_bound.h"
 
 namespace pcbench {
