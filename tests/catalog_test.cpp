@@ -42,6 +42,7 @@
 #include "integrands/registry.h"
 #include "integrands/singular.h"
 #include "integrands/sparse_support.h"
+#include "test_support.h"
 
 namespace pcbench {
 namespace {
@@ -714,21 +715,7 @@ void expect_plain_unbiased_on_the_catalog(std::uint64_t samples, std::uint32_t r
                                  samples, replicates));
     }
   }
-  std::vector<Verdict> verdicts;
-  verdicts.reserve(plans.size());
-  for (const RunPlan& plan : plans) {
-    const RunResult result = execute_run(plan, {.seed = seed});
-    ASSERT_EQ(result.status, RunStatus::kOk) << plan.integrand->name << ": " << result.error;
-    verdicts.push_back(test_against_reference(result, "consistent"));
-  }
-  std::vector<Verdict*> family;
-  for (Verdict& v : verdicts) family.push_back(&v);
-  decide_family(family, alpha);
-  for (std::size_t i = 0; i < plans.size(); ++i) {
-    EXPECT_EQ(verdicts[i].result, "consistent")
-        << plans[i].integrand->name << " (run " << plans[i].id << ", seed " << seed
-        << "): " << verdicts[i].reason;
-  }
+  expect_family_consistent(plans, seed, alpha);
 }
 
 // About 20 runs of 16 replicates × 50000 samples; family-wise false-alarm budget 1e-3.
