@@ -4,7 +4,6 @@
 #include <fmt/ranges.h>
 #include <glob.h>
 
-#include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -17,6 +16,7 @@
 #include "base/comma_list.h"
 #include "base/errors.h"
 #include "base/text_hash.h"
+#include "harness/plan/image_file_reader.h"
 
 namespace pcbench {
 namespace {
@@ -48,12 +48,9 @@ std::vector<std::string> glob_files(const std::string& pattern) {
   return files;
 }
 
-std::string stored_type(const std::string& format, const OIIO::ImageSpec& spec, int channel) {
+std::string stored_type(const std::string& format, const ImageFileHeader& header, int channel) {
   if (format == "hdr") return "rgbe";
-  const OIIO::TypeDesc type = spec.channelformat(channel);
-  if (type == OIIO::TypeDesc::HALF) return "half";
-  if (type == OIIO::TypeDesc::FLOAT) return "float";
-  return type.c_str();
+  return header.channel_formats[static_cast<std::size_t>(channel)];
 }
 
 // FNV-1a over the pixel values' bytes: equal only for identical images (up to a collision of
@@ -157,34 +154,35 @@ std::vector<std::string> image_set_files(const std::string& set, const std::stri
 
 Image read_image_file(const std::string& path, const ImageReadOptions& options,
                       ImageFileFacts* facts) {
-  std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(path);
+  std::string error;
+  const std::unique_ptr<ImageFileReader> input = open_image_file(path, error);
   if (!input) {
-    throw InputError(fmt::format("{}: cannot be read as an image: {}", path, OIIO::geterror()));
+    throw InputError(fmt::format("{}: cannot be read as an image: {}", path, error));
   }
-  const OIIO::ImageSpec& spec = input->spec();
+  const ImageFileHeader& spec = input->header();
   // OpenImageIO reads PFM with its PNM plugin; only the float variant holds radiance.
-  const std::string plugin = input->format_name();
-  const std::string format =
-      plugin == "pnm" && spec.format == OIIO::TypeDesc::FLOAT ? "pfm" : plugin;
+  const std::string& plugin = spec.plugin;
+  const std::string format = plugin == "pnm" && spec.float_pixels ? "pfm" : plugin;
   if (format != "openexr" && format != "hdr" && format != "pfm") {
     throw InputError(fmt::format("{}: a {} file ({}); radiance images are {}", path, plugin,
-                                 spec.format.c_str(), kFormats));
+                                 spec.pixel_format, kFormats));
   }
   std::vector<int> channels;
   for (const std::string& name : options.channels) {
-    const int index = spec.channelindex(name);
-    if (index < 0) {
+    const auto found = std::find(spec.channel_names.begin(), spec.channel_names.end(), name);
+    if (found == spec.channel_names.end()) {
       throw InputError(fmt::format("{}: no channel '{}'; it has {} (choose with --channels)", path,
-                                   name, fmt::join(spec.channelnames, ", ")));
+                                   name, fmt::join(spec.channel_names, ", ")));
     }
-    channels.push_back(index);
+    channels.push_back(static_cast<int>(found - spec.channel_names.begin()));
   }
-  const auto width = static_cast<std::uint32_t>(spec.width);
-  const auto height = static_cast<std::uint32_t>(spec.height);
-  std::vector<float> pixels(std::size_t{width} * height * static_cast<std::size_t>(spec.nchannels));
-  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data())) {
-    throw InputError(fmt::format("{}: cannot read its pixels (truncated or damaged?): {}", path,
-                                 input->geterror()));
+  const std::uint32_t width = spec.width;
+  const std::uint32_t height = spec.height;
+  const auto channel_count = static_cast<std::size_t>(spec.channel_names.size());
+  std::vector<float> pixels;
+  if (!input->read_pixels(pixels, error)) {
+    throw InputError(
+        fmt::format("{}: cannot read its pixels (truncated or damaged?): {}", path, error));
   }
   const CropWindow crop = options.crop.value_or(CropWindow{0, 0, width, height});
   if (crop.width == 0 || crop.height == 0 || crop.x + crop.width > width ||
@@ -206,8 +204,7 @@ Image read_image_file(const std::string& path, const ImageReadOptions& options,
     for (std::uint32_t x = 0; x < crop.width; ++x) {
       const std::size_t pixel = std::size_t{crop.y + y} * width + (crop.x + x);
       for (std::uint32_t c = 0; c < kImageChannels; ++c) {
-        const double v = pixels[pixel * static_cast<std::size_t>(spec.nchannels) +
-                                static_cast<std::size_t>(channels[c])];
+        const double v = pixels[pixel * channel_count + static_cast<std::size_t>(channels[c])];
         image.at(x, y, c) = v;
         if (!std::isfinite(v)) {
           if (found.nonfinite++ == 0) {
