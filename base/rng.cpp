@@ -133,4 +133,18 @@ void RandomStream::refill() {
   next_ = 0;
 }
 
+void SampleStreams::fill() {
+  // Past the last sample the streams are still well defined (a caller that asks for more gets
+  // the next samples' streams).
+  const std::size_t group =
+      next_sample_ < end_sample_ ? std::min<std::size_t>(kGroup, end_sample_ - next_sample_) : 1;
+  for (std::size_t g = 0; g < group; ++g) {
+    id_.sample = next_sample_++;
+    counters_[g] = RandomStream::first_counter(id_);
+  }
+  philox4x32_10_many(std::span(counters_).first(group), key_, std::span(blocks_).first(group));
+  next_ = 0;
+  filled_ = group;
+}
+
 }  // namespace pcbench

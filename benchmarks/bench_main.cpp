@@ -187,7 +187,8 @@ void BM_ImportanceStep(benchmark::State& state) {
     f.workspace->importance(f.pairs, f.importance);
     terms.clear();
     ++stream.sample;
-    step.choose({.importance = f.importance}, stream, pmf, sampler, draws, terms);
+    RandomStream rng(stream);
+    step.choose({.importance = f.importance}, rng, pmf, sampler, draws, terms);
     benchmark::DoNotOptimize(terms.data());
   }
   state.SetItemsProcessed(state.iterations());

@@ -7,9 +7,6 @@ namespace pcbench {
 void DiscreteSampler::build(std::span<const double> pmf, DiscreteSamplerKind kind) {
   kind_ = kind;
   const auto m = static_cast<std::uint32_t>(pmf.size());
-  double total = 0.0;
-  for (double p : pmf) total += p;
-
   if (kind == DiscreteSamplerKind::kCdf) {
     cdf_.resize(m);
     double running = 0.0;
@@ -21,7 +18,10 @@ void DiscreteSampler::build(std::span<const double> pmf, DiscreteSamplerKind kin
     return;
   }
 
-  // Vose: scale to mean 1, then pair each under-full column with an over-full one.
+  // Vose: scale to mean 1, then pair each under-full column with an over-full one. (The CDF's
+  // total is its last running sum: it needs no pass of its own.)
+  double total = 0.0;
+  for (double p : pmf) total += p;
   threshold_.resize(m);
   alias_.resize(m);
   small_.clear();

@@ -244,9 +244,9 @@ void ResamplingEstimator::estimate_part(const BatchContext& ctx, PathWorkspace& 
   scratch.terms.clear();
   scratch.term_offsets.assign(1, 0);
   scratch.pairs.clear();
+  SampleStreams draw_streams(ctx.stream(StreamPurpose::kResampling), ctx.first_sample, n);
   for (std::uint32_t i = 0; i < n; ++i) {
-    StreamId draw_stream = ctx.stream(StreamPurpose::kResampling);
-    draw_stream.sample = ctx.first_sample + i;
+    RandomStream draw_stream = draw_streams.next();
     step_.choose(pool_view(pools, scratch, i), draw_stream, scratch.pmf, scratch.sampler,
                  scratch.draws, scratch.terms);
     close_sample_terms(scratch, pools.pool_start(i), i);

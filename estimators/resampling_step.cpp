@@ -141,7 +141,7 @@ void ResamplingStep::weigh(const PoolView& pool, std::span<const double> pmf,
                    .pmf = chosen.pmf});
 }
 
-void ResamplingStep::choose(const PoolView& pool, const StreamId& stream, std::vector<double>& pmf,
+void ResamplingStep::choose(const PoolView& pool, RandomStream& rng, std::vector<double>& pmf,
                             DiscreteSampler& sampler, std::vector<std::uint32_t>& draws,
                             std::vector<Term>& terms) const {
   if (connects_every_path_once()) {
@@ -165,7 +165,6 @@ void ResamplingStep::choose(const PoolView& pool, const StreamId& stream, std::v
     for (std::uint32_t k = 0; k < count; ++k) terms.push_back({.coefficient = kNaN, .pmf = kNaN});
     return;
   }
-  RandomStream rng(stream);
   draw_indices(config_.scheme, pmf, config_.K, config_.sampler, sampler, rng, draws);
   weigh(pool, pmf, draws, terms);
 }

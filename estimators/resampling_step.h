@@ -92,9 +92,10 @@ class ResamplingStep {
   // entry is NaN, and so is every estimate made from it.
   void build_pmf(const PoolView& pool, std::vector<double>& pmf) const;
 
-  // Draws (with the random numbers of `stream`, when the draws are random) and weighs: appends
-  // this sample's terms. `pmf` is scratch (left holding P), `draws` is left holding the draws.
-  void choose(const PoolView& pool, const StreamId& stream, std::vector<double>& pmf,
+  // Draws (with the random numbers of `rng`, the sample's kResampling stream, when the draws are
+  // random) and weighs: appends this sample's terms. `pmf` is scratch (left holding P), `draws`
+  // is left holding the draws.
+  void choose(const PoolView& pool, RandomStream& rng, std::vector<double>& pmf,
               DiscreteSampler& sampler, std::vector<std::uint32_t>& draws,
               std::vector<Term>& terms) const;
 

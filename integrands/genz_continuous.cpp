@@ -15,7 +15,8 @@ double laplace_mass(double k, double c) {
 GenzContinuous::GenzContinuous(const ResolvedParams& params)
     : GenzProductDensity(params),
       rate_(0.5 * sharpness_),
-      left_mass_(-std::expm1(-rate_ * center_) / rate_),
+      left_offset_(std::expm1(-rate_ * center_)),
+      left_mass_(-left_offset_ / rate_),
       mass_(laplace_mass(rate_, center_)) {}
 
 Reference GenzContinuous::reference() const {

@@ -55,15 +55,15 @@ class GenzContinuous : public GenzProductDensity<GenzContinuous> {
   // Inverse CDF: the mass left of c is left_mass_, the rest lies right of c.
   double sample_coordinate(double u) const {
     const double m = u * mass_;
-    const double t = m < left_mass_
-                         ? center_ + std::log1p(rate_ * m + std::expm1(-rate_ * center_)) / rate_
-                         : center_ - std::log1p(-rate_ * (m - left_mass_)) / rate_;
+    const double t = m < left_mass_ ? center_ + std::log1p(rate_ * m + left_offset_) / rate_
+                                    : center_ - std::log1p(-rate_ * (m - left_mass_)) / rate_;
     return std::clamp(t, 0.0, 1.0);
   }
 
-  double rate_;       // λ = s/2
-  double left_mass_;  // ∫_0^c exp(-λ (c - t)) dt
-  double mass_;       // Z
+  double rate_;         // λ = s/2
+  double left_offset_;  // expm1(-λ c), once rather than per sample left of c
+  double left_mass_;    // ∫_0^c exp(-λ (c - t)) dt = -left_offset_ / λ
+  double mass_;         // Z
 };
 
 }  // namespace pcbench

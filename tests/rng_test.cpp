@@ -52,6 +52,25 @@ TEST(RngStream, PrecomputedFirstBlockGivesTheSameNumbers) {
   }
 }
 
+// The streams of consecutive samples, first blocks computed a group at a time, are the streams
+// each sample's id makes: across group boundaries and past the count asked for.
+TEST(RngStream, SampleStreamsAreEachSamplesStream) {
+  StreamId id{.key = 0xfeedfacecafebeefull,
+              .replicate = 5,
+              .purpose = StreamPurpose::kResampling,
+              .path = 0};
+  for (std::uint32_t count : {1u, 63u, 64u, 65u, 130u}) {
+    SampleStreams streams(id, 1000, count);
+    for (std::uint32_t i = 0; i < count + 3; ++i) {
+      RandomStream batched = streams.next();
+      id.sample = 1000 + i;
+      RandomStream one(id);
+      for (int k = 0; k < 5; ++k) EXPECT_EQ(batched.uniform(), one.uniform()) << count << " " << i;
+      EXPECT_EQ(batched.uniform_index(17), one.uniform_index(17));
+    }
+  }
+}
+
 TEST(RngStream, SameIdGivesSameNumbers) {
   const StreamId id{
       .key = 42, .replicate = 3, .purpose = StreamPurpose::kCameraPath, .sample = 17, .path = 5};
