@@ -285,7 +285,7 @@ namespace {
 // The inverse CDF (counting for small tables, binary search for large ones) is the first running
 // sum above u × total, and never an entry of probability zero.
 TEST(ResamplingSampler, IndexAtIsTheFirstRunningSumAboveTheTarget) {
-  for (const std::size_t m : {5, 64, 65, 1000}) {
+  for (const std::size_t m : {1, 3, 5, 16, 64, 65, 1000}) {  // each lane count and the tail
     std::vector<double> pmf(m);
     RandomStream init({.key = static_cast<std::uint64_t>(m)});
     for (std::size_t j = 0; j < m; ++j) pmf[j] = j % 3 == 1 ? 0.0 : init.uniform();
