@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <vector>
 
+#include "base/philox_lanes.h"
 #include "tests/test_support.h"
 
 namespace pcbench {
@@ -27,12 +29,27 @@ TEST(RngPhilox, MatchesRandom123KnownAnswers) {
 // tail of a partial group included).
 TEST(RngPhilox, ManyMatchesOneByOne) {
   const PhiloxKey key{0xa4093822u, 0x299f31d0u};
-  for (std::size_t n : {0u, 1u, 7u, 8u, 9u, 16u, 23u}) {
+  // Around both lane widths (8 and 16), with and without a padded tail.
+  for (std::size_t n : {0u, 1u, 7u, 8u, 9u, 15u, 16u, 17u, 23u, 31u, 32u, 33u, 64u}) {
     std::vector<PhiloxCounter> counters(n), out(n);
     for (std::uint32_t i = 0; i < n; ++i) counters[i] = {i * 2654435761u, i, ~i, 0x5a5a0000u + i};
     philox4x32_10_many(counters, key, out);
     for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(out[i], philox4x32_10(counters[i], key)) << i;
+    for (const PhiloxLanes lanes :
+         {PhiloxLanes::kScalar, PhiloxLanes::kAvx2, PhiloxLanes::kAvx512}) {
+      if (!philox_lanes_supported(lanes)) continue;
+      std::vector<PhiloxCounter> with(n);
+      philox4x32_10_many_with(lanes, counters, key, with);
+      EXPECT_EQ(with, out) << "lanes " << static_cast<int>(lanes) << ", n = " << n;
+    }
   }
+}
+
+// Every way this machine has ran above: say which, so that a log shows what was covered.
+TEST(RngPhilox, LanesThisMachineHas) {
+  EXPECT_TRUE(philox_lanes_supported(PhiloxLanes::kScalar));
+  std::printf("philox lanes: avx2 %d, avx512 %d\n", philox_lanes_supported(PhiloxLanes::kAvx2),
+              philox_lanes_supported(PhiloxLanes::kAvx512));
 }
 
 // A stream handed its first block gives the numbers of the stream that computes it.
