@@ -22,36 +22,28 @@ void DiscreteSampler::build(std::span<const double> pmf, DiscreteSamplerKind kin
   // total is its last running sum: it needs no pass of its own.)
   double total = 0.0;
   for (double p : pmf) total += p;
-  threshold_.resize(m);
-  alias_.resize(m);
+  columns_.resize(m);
   small_.clear();
   large_.clear();
   const double scale = static_cast<double>(m) / total;
   for (std::uint32_t i = 0; i < m; ++i) {
-    threshold_[i] = pmf[i] * scale;
-    alias_[i] = i;
-    (threshold_[i] < 1.0 ? small_ : large_).push_back(i);
+    columns_[i] = {.threshold = pmf[i] * scale, .alias = i};
+    (columns_[i].threshold < 1.0 ? small_ : large_).push_back(i);
   }
   while (!small_.empty() && !large_.empty()) {
     const std::uint32_t s = small_.back();
     small_.pop_back();
     const std::uint32_t l = large_.back();
-    alias_[s] = l;
-    threshold_[l] -= 1.0 - threshold_[s];
-    if (threshold_[l] < 1.0) {
+    columns_[s].alias = l;
+    columns_[l].threshold -= 1.0 - columns_[s].threshold;
+    if (columns_[l].threshold < 1.0) {
       large_.pop_back();
       small_.push_back(l);
     }
   }
   // What is left is full up to rounding: keep it always.
-  for (std::uint32_t i : small_) threshold_[i] = 1.0;
-  for (std::uint32_t i : large_) threshold_[i] = 1.0;
-}
-
-std::uint32_t DiscreteSampler::draw(RandomStream& rng) const {
-  if (kind_ == DiscreteSamplerKind::kCdf) return index_at(rng.uniform());
-  const std::uint32_t column = rng.uniform_index(static_cast<std::uint32_t>(threshold_.size()));
-  return rng.uniform() < threshold_[column] ? column : alias_[column];
+  for (std::uint32_t i : small_) columns_[i].threshold = 1.0;
+  for (std::uint32_t i : large_) columns_[i].threshold = 1.0;
 }
 
 std::uint32_t DiscreteSampler::index_at(double u) const {

@@ -23,7 +23,28 @@ class DiscreteSampler {
  public:
   // `pmf` must be non-negative with a positive sum (it need not be normalised exactly).
   void build(std::span<const double> pmf, DiscreteSamplerKind kind);
-  std::uint32_t draw(RandomStream& rng) const;
+  std::uint32_t draw(RandomStream& rng) const { return resolve(numbers(rng)); }
+
+  // draw() in two halves, for a caller that makes several draws at once: the random numbers of
+  // each first, then the table lookups, which miss the cache when the tables are large (pcbpt's
+  // are several MB) and then overlap instead of waiting one after the other.
+  struct Numbers {
+    std::uint32_t column = 0;  // alias: the column
+    double u = 0.0;            // alias: to keep the column or take its alias; cdf: the quantile
+  };
+  Numbers numbers(RandomStream& rng) const {
+    if (kind_ == DiscreteSamplerKind::kCdf) return {.u = rng.uniform()};
+    const std::uint32_t column = rng.uniform_index(static_cast<std::uint32_t>(columns_.size()));
+    return {.column = column, .u = rng.uniform()};
+  }
+  std::uint32_t resolve(const Numbers& numbers) const {
+    if (kind_ == DiscreteSamplerKind::kCdf) return index_at(numbers.u);
+    const Column column = columns_[numbers.column];
+    // A select rather than a branch: the comparison waits on the column's load, and a
+    // mispredicted branch there would hold up the lookups queued behind it.
+    return numbers.u < column.threshold ? numbers.column : column.alias;
+  }
+
   // The inverse CDF at u in [0, 1): the first index whose running sum exceeds u × total. Only for
   // a table built as kCdf (stratified and systematic draws need this map, not just any draw).
   std::uint32_t index_at(double u) const;
@@ -31,9 +52,16 @@ class DiscreteSampler {
  private:
   static constexpr std::size_t kLinearSearchMax = 64;  // inverse CDF by counting up to here
 
+  // Alias column i: keep i with probability `threshold`, else take `alias`. Side by side, so that
+  // a draw from a table too large for the cache misses once, not twice (pcbpt draws from tables
+  // of several MB).
+  struct Column {
+    double threshold;
+    std::uint32_t alias;
+  };
+
   DiscreteSamplerKind kind_ = DiscreteSamplerKind::kAlias;
-  std::vector<double> threshold_;     // alias: keep i with probability threshold_[i]
-  std::vector<std::uint32_t> alias_;  // alias: else take alias_[i]
+  std::vector<Column> columns_;       // alias
   std::vector<std::uint32_t> small_;  // alias: work lists, kept to reuse their memory
   std::vector<std::uint32_t> large_;
   std::vector<double> cdf_;          // cdf: running sums, cdf_.back() = total

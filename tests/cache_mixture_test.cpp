@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
+#include <span>
 #include <vector>
 
 #include "harness/run/diagnostics.h"
@@ -99,6 +101,29 @@ TEST(CacheMixture, WithoutTheUniformShareTheEnumerationShowsTheBias) {
   const CacheMixture control(c, blind, kCandidates, 0.0);
   RandomStream rng({.key = 17});
   EXPECT_FALSE(control.draw(rng, true).has_value());
+}
+
+// pcbpt draws a batch at once (draw_many: every draw's random numbers, then the table lookups);
+// the batch must be the draws that one draw() after another gives from the same stream, with the
+// streams left at the same place, whichever branches (uniform, a P, a cache point without one,
+// the control's nothing) the draws take.
+TEST(CacheMixture, DrawManyIsDrawAfterDraw) {
+  const std::vector<CacheDistribution> c = caches();
+  for (const bool nothing : {false, true}) {
+    for (const std::vector<std::uint32_t>& nearest :
+         {std::vector<std::uint32_t>{0, 1, 2}, {2, 3}, {}}) {
+      const CacheMixture mixture(c, nearest, kCandidates, 0.25);
+      RandomStream one({.key = 18}), many({.key = 18});
+      for (std::size_t size = 1; size <= CacheMixture::kMaxMany; ++size) {
+        std::optional<std::uint32_t> batch[CacheMixture::kMaxMany];
+        mixture.draw_many(many, nothing, std::span(batch, size));
+        for (std::size_t d = 0; d < size; ++d) {
+          EXPECT_EQ(batch[d], mixture.draw(one, nothing)) << "draw " << d << " of " << size;
+        }
+      }
+      EXPECT_EQ(one.uniform(), many.uniform());
+    }
+  }
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 // tests/cache_mixture_test.cpp enumerates the branches against it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -40,14 +41,40 @@ class CacheMixture {
   // The drawn candidate, or none when `empty_draws_nothing` and the chosen cache point has no P
   // (the negative control's mistake).
   std::optional<std::uint32_t> draw(RandomStream& rng, bool empty_draws_nothing = false) const {
-    if (rng.uniform() < u_) return rng.uniform_index(n_);
-    const CacheDistribution& c =
-        caches_[nearest_[rng.uniform_index(static_cast<std::uint32_t>(nearest_.size()))]];
-    if (c.pmf.empty()) {
-      if (empty_draws_nothing) return std::nullopt;
-      return rng.uniform_index(n_);
+    std::optional<std::uint32_t> drawn;
+    draw_many(rng, empty_draws_nothing, std::span(&drawn, 1));
+    return drawn;
+  }
+
+  // The most draws draw_many() makes at once.
+  static constexpr std::size_t kMaxMany = 16;
+
+  // drawn.size() (at most kMaxMany) calls of draw(), the same numbers in the same order: every
+  // draw's random numbers first, then the samplers' table lookups, which miss the cache (the
+  // tables are caches × N_v entries) and so overlap rather than wait one after the other.
+  void draw_many(RandomStream& rng, bool empty_draws_nothing,
+                 std::span<std::optional<std::uint32_t>> drawn) const {
+    const DiscreteSampler* sampler[kMaxMany];
+    DiscreteSampler::Numbers numbers[kMaxMany];
+    for (std::size_t d = 0; d < drawn.size(); ++d) {
+      sampler[d] = nullptr;
+      if (rng.uniform() < u_) {
+        drawn[d] = rng.uniform_index(n_);
+        continue;
+      }
+      const CacheDistribution& c =
+          caches_[nearest_[rng.uniform_index(static_cast<std::uint32_t>(nearest_.size()))]];
+      if (c.pmf.empty()) {
+        drawn[d] = empty_draws_nothing ? std::nullopt
+                                       : std::optional<std::uint32_t>(rng.uniform_index(n_));
+        continue;
+      }
+      sampler[d] = &c.sampler;
+      numbers[d] = c.sampler.numbers(rng);
     }
-    return c.sampler.draw(rng);
+    for (std::size_t d = 0; d < drawn.size(); ++d) {
+      if (sampler[d] != nullptr) drawn[d] = sampler[d]->resolve(numbers[d]);
+    }
   }
 
   double pmf(std::uint32_t index) const {

@@ -190,17 +190,33 @@ class ProbabilisticPass final : public ScenePass {
                      static_cast<std::uint32_t>(vertices_.size()), config_.uniform_mix));
   }
 
-  // K draws from `mixture`, each weighted by its exact PMF (cache_mixture.h).
+  // K draws from `mixture`, each weighted by its exact PMF (cache_mixture.h). A batch of draws is
+  // made, then their PMFs, then their connections: the draws' and the PMFs' lookups in the cache
+  // points' tables (caches × N_v entries, several MB) are cache misses, independent of each other
+  // within a step, which then overlap rather than each wait behind the last connection.
   Rgb connect_drawn_from(const LightPool& pool, CameraPrefix& prefix,
                          const CacheMixture& mixture) const {
     const double k = config_.draws;
     const double paths = m();
-    return connect_drawn_vertices(
-        services_, pool, vertices_, prefix, config_.draws, [&](RandomStream& draws) {
-          const std::optional<std::uint32_t> index = mixture.draw(draws, unseen_draw_nothing_);
-          if (!index) return VertexDraw{0, 0.0};
-          return VertexDraw{*index, 1.0 / (k * paths * mixture.pmf(*index))};
-        });
+    constexpr std::uint32_t kBatch = std::min<std::uint32_t>(kDrawBatch, CacheMixture::kMaxMany);
+    std::optional<std::uint32_t> index[kBatch];
+    VertexDraw batch[kBatch];
+    Rgb value;
+    for (std::uint32_t first = 0; first < config_.draws; first += kBatch) {
+      const std::uint32_t size = std::min(kBatch, config_.draws - first);
+      mixture.draw_many(prefix.draws, unseen_draw_nothing_, std::span(index, size));
+      for (std::uint32_t d = 0; d < size; ++d) {
+        if (!index[d]) {
+          batch[d] = VertexDraw{0, 0.0};
+        } else if (vertices_[*index[d]].count > prefix.max_s) {
+          batch[d] = VertexDraw{*index[d], 0.0};  // not connected: its coefficient is not used
+        } else {
+          batch[d] = VertexDraw{*index[d], 1.0 / (k * paths * mixture.pmf(*index[d]))};
+        }
+      }
+      connect_vertex_draws(services_, pool, vertices_, prefix, std::span(batch, size), value);
+    }
+    return value;
   }
 
   // q_c(i) for every candidate at cache point c; the shadow rays are counted as connect()
