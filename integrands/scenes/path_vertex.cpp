@@ -21,19 +21,16 @@ void random_walk(const Scene& scene, RandomStream& rng, Vec3 direction, double d
     if (!scene.intersect(previous.position, direction, hit)) return;
     // The segment's length is the hit distance: the area conversions below need no square root.
     const double inv_distance_squared = 1.0 / (hit.distance * hit.distance);
-    PathVertex v;
-    v.kind = VertexKind::kSurface;
-    v.position = previous.position + hit.distance * direction;
-    v.normal = scene.normal(hit.triangle);
-    v.triangle = hit.triangle;
-    v.to_previous = -direction;
-    v.beta = beta;
-    v.pdf_fwd = previous_delta
-                    ? 0.0
-                    : direction_pdf * std::abs(dot(v.normal, direction)) * inv_distance_squared;
+    const Vec3& normal = scene.normal(hit.triangle);
+    const double pdf_fwd =
+        previous_delta ? 0.0
+                       : direction_pdf * std::abs(dot(normal, direction)) * inv_distance_squared;
     const Material& material = scene.material(hit.triangle);
-    v.delta = is_delta(material);
-    path.push_back(v);
+    // Built in place, every member given: a local vertex copied in was zeroed first (rep stos)
+    // and its copy stalled reading across the stores that filled it.
+    const PathVertex& v = path.emplace_back(
+        VertexKind::kSurface, previous.position + hit.distance * direction, normal, -direction,
+        hit.triangle, beta, pdf_fwd, 0.0, is_delta(material), false);
     if (path.size() == max_vertices) return;
 
     const double u1 = rng.uniform(), u2 = rng.uniform();
