@@ -84,15 +84,17 @@ void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& r
 PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng) {
   const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
   const EmitterPoint e = scene.emitters().sample(u0, u1, u2);
-  PathVertex x0;
-  x0.kind = VertexKind::kEmitter;
-  x0.position = e.position;
-  x0.normal = e.normal;
-  x0.point_light = e.point_light;
-  x0.pdf_fwd = e.pdf_area;
-  x0.beta = Rgb{1.0, 1.0, 1.0} / e.pdf_area;
-  x0.triangle = e.index;
-  return x0;
+  // Every member given: a default-built vertex was zeroed first (rep stos), then filled.
+  return {.kind = VertexKind::kEmitter,
+          .position = e.position,
+          .normal = e.normal,
+          .to_previous = {},
+          .triangle = e.index,
+          .beta = Rgb{1.0, 1.0, 1.0} / e.pdf_area,
+          .pdf_fwd = e.pdf_area,
+          .pdf_rev = 0.0,
+          .delta = false,
+          .point_light = e.point_light};
 }
 
 void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_length,
