@@ -11,6 +11,7 @@
 
 #include "integrands/scenes/scene_description.h"
 #include "integrands/scenes/scene_math.h"
+#include "integrands/scenes/turn_trig.h"
 
 namespace pcbench::scene {
 
@@ -86,8 +87,8 @@ inline bool is_delta(const Material& material) {
 
 inline Vec3 sample_cosine_hemisphere(const Vec3& normal, double u1, double u2) {
   const double r = std::sqrt(u1);
-  const double phi = 2.0 * kPi * u2;
-  const Vec3 local{r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1.0 - u1))};
+  const CosSin phi = cos_sin_of_turn(u2);
+  const Vec3 local{r * phi.cos, r * phi.sin, std::sqrt(std::max(0.0, 1.0 - u1))};
   return Frame(normal).to_world(local);
 }
 
@@ -155,9 +156,8 @@ inline BsdfSample bsdf_sample(const Material& material, const Vec3& normal, cons
       // cos α distributed with density ∝ cos^e α about the mirror direction.
       const double cos_alpha = std::pow(1.0 - u1, 1.0 / (material.exponent + 1.0));
       const double sin_alpha = std::sqrt(std::max(0.0, 1.0 - cos_alpha * cos_alpha));
-      const double phi = 2.0 * kPi * u2;
-      s.wi = Frame(reflect(wo, n))
-                 .to_world({sin_alpha * std::cos(phi), sin_alpha * std::sin(phi), cos_alpha});
+      const CosSin phi = cos_sin_of_turn(u2);
+      s.wi = Frame(reflect(wo, n)).to_world({sin_alpha * phi.cos, sin_alpha * phi.sin, cos_alpha});
       break;
     }
     case MaterialKind::kMirror: {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "integrands/scenes/bsdf.h"
+#include "integrands/scenes/turn_trig.h"
 
 namespace pcbench::scene {
 namespace {
@@ -111,7 +112,8 @@ void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_l
   if (x0.point_light) {
     const double z = 1.0 - 2.0 * u1;
     const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    direction = {r * std::cos(2.0 * kPi * u2), r * std::sin(2.0 * kPi * u2), z};
+    const CosSin phi = cos_sin_of_turn(u2);
+    direction = {r * phi.cos, r * phi.sin, z};
     pdf = 1.0 / (4.0 * kPi);
   } else {
     direction = sample_cosine_hemisphere(x0.normal, u1, u2);
