@@ -18,14 +18,17 @@ double remap0(double pdf) {
 struct Segment {
   Vec3 w;                             // unit, from the light side to the camera side
   double inv_distance_squared = 0.0;  // 0 when the two ends coincide
+  double distance_squared = 0.0;
+  double distance = 0.0;  // for the shadow ray's margin
 };
 
 Segment segment_between(const PathVertex& light_end, const PathVertex& camera_end) {
   const Vec3 d = camera_end.position - light_end.position;
   const double distance_squared = dot(d, d);
   if (distance_squared == 0.0) return {};
-  const double inv_distance = 1.0 / std::sqrt(distance_squared);
-  return {d * inv_distance, inv_distance * inv_distance};
+  const double distance = std::sqrt(distance_squared);
+  const double inv_distance = 1.0 / distance;
+  return {d * inv_distance, inv_distance * inv_distance, distance_squared, distance};
 }
 
 // Converts a solid-angle density at `v` towards its own predecessor into an area density at
@@ -259,6 +262,9 @@ Rgb connect(const Scene& scene, std::span<const PathVertex> light,
   ++counters.connections;
   const Segment segment = segment_between(qs, pt);
   if (segment.inv_distance_squared == 0.0) return {};
+  // Set up here, from the segment's length, so that its division overlaps the ends' BSDFs.
+  const Scene::ShadowRay shadow =
+      scene.shadow_ray(qs.position, pt.position, segment.distance_squared, segment.distance);
   const Vec3& w = segment.w;  // from the light side to the camera side
   const EndTerms light_end = light_end_terms(scene, qs, w);
   EndTerms camera_end;
@@ -284,7 +290,7 @@ Rgb connect(const Scene& scene, std::span<const PathVertex> light,
       ++counters.skipped_convex;
     } else {
       ++counters.shadow_rays;
-      if (scene.occluded(qs.position, pt.position)) {
+      if (scene.occluded(shadow)) {
         ++counters.occluded;
         return {};
       }

@@ -73,15 +73,15 @@ double Emitters::pdf_area(std::uint32_t triangle) const {
 
 EmitterPoint Emitters::sample(double u_select, double u1, double u2) const {
   const Entry& e = entries_[std::min(entry_for(u_select), entries_.size() - 1)];
-  EmitterPoint point;
+  // Every member given: a default-built point was zeroed first (rep stos), then filled.
   if (e.point_light) {
     const PointLight& light = scene_.point_lights[e.index];
-    point.position = light.position;
-    point.radiance = light.intensity;
-    point.pdf_area = e.probability;
-    point.point_light = true;
-    point.index = e.index;
-    return point;
+    return {.position = light.position,
+            .normal = {},
+            .radiance = light.intensity,
+            .pdf_area = e.probability,
+            .point_light = true,
+            .index = e.index};
   }
   const Triangle& t = scene_.triangles[e.index];
   // Uniform on the triangle by folding the unit square.
@@ -90,12 +90,12 @@ EmitterPoint Emitters::sample(double u_select, double u1, double u2) const {
     a = 1.0 - a;
     b = 1.0 - b;
   }
-  point.position = t.p0 + a * (t.p1 - t.p0) + b * (t.p2 - t.p0);
-  point.normal = e.normal;
-  point.radiance = t.emission;
-  point.pdf_area = triangle_pdf_area_[e.index];
-  point.index = e.index;
-  return point;
+  return {.position = t.p0 + a * (t.p1 - t.p0) + b * (t.p2 - t.p0),
+          .normal = e.normal,
+          .radiance = t.emission,
+          .pdf_area = triangle_pdf_area_[e.index],
+          .point_light = false,
+          .index = e.index};
 }
 
 }  // namespace pcbench::scene

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "integrands/scenes/bsdf.h"
+#include "integrands/scenes/turn_trig.h"
 
 namespace pcbench::scene {
 namespace {
@@ -21,19 +22,16 @@ void random_walk(const Scene& scene, RandomStream& rng, Vec3 direction, double d
     if (!scene.intersect(previous.position, direction, hit)) return;
     // The segment's length is the hit distance: the area conversions below need no square root.
     const double inv_distance_squared = 1.0 / (hit.distance * hit.distance);
-    PathVertex v;
-    v.kind = VertexKind::kSurface;
-    v.position = previous.position + hit.distance * direction;
-    v.normal = scene.normal(hit.triangle);
-    v.triangle = hit.triangle;
-    v.to_previous = -direction;
-    v.beta = beta;
-    v.pdf_fwd = previous_delta
-                    ? 0.0
-                    : direction_pdf * std::abs(dot(v.normal, direction)) * inv_distance_squared;
+    const Vec3& normal = scene.normal(hit.triangle);
+    const double pdf_fwd =
+        previous_delta ? 0.0
+                       : direction_pdf * std::abs(dot(normal, direction)) * inv_distance_squared;
     const Material& material = scene.material(hit.triangle);
-    v.delta = is_delta(material);
-    path.push_back(v);
+    // Built in place, every member given: a local vertex copied in was zeroed first (rep stos)
+    // and its copy stalled reading across the stores that filled it.
+    const PathVertex& v = path.emplace_back(
+        VertexKind::kSurface, previous.position + hit.distance * direction, normal, -direction,
+        hit.triangle, beta, pdf_fwd, 0.0, is_delta(material), false);
     if (path.size() == max_vertices) return;
 
     const double u1 = rng.uniform(), u2 = rng.uniform();
@@ -87,15 +85,17 @@ void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& r
 PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng) {
   const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
   const EmitterPoint e = scene.emitters().sample(u0, u1, u2);
-  PathVertex x0;
-  x0.kind = VertexKind::kEmitter;
-  x0.position = e.position;
-  x0.normal = e.normal;
-  x0.point_light = e.point_light;
-  x0.pdf_fwd = e.pdf_area;
-  x0.beta = Rgb{1.0, 1.0, 1.0} / e.pdf_area;
-  x0.triangle = e.index;
-  return x0;
+  // Every member given: a default-built vertex was zeroed first (rep stos), then filled.
+  return {.kind = VertexKind::kEmitter,
+          .position = e.position,
+          .normal = e.normal,
+          .to_previous = {},
+          .triangle = e.index,
+          .beta = Rgb{1.0, 1.0, 1.0} / e.pdf_area,
+          .pdf_fwd = e.pdf_area,
+          .pdf_rev = 0.0,
+          .delta = false,
+          .point_light = e.point_light};
 }
 
 void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_length,
@@ -112,7 +112,8 @@ void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_l
   if (x0.point_light) {
     const double z = 1.0 - 2.0 * u1;
     const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    direction = {r * std::cos(2.0 * kPi * u2), r * std::sin(2.0 * kPi * u2), z};
+    const CosSin phi = cos_sin_of_turn(u2);
+    direction = {r * phi.cos, r * phi.sin, z};
     pdf = 1.0 / (4.0 * kPi);
   } else {
     direction = sample_cosine_hemisphere(x0.normal, u1, u2);

@@ -107,18 +107,16 @@ bool Scene::intersect(const Vec3& origin, const Vec3& direction, Hit& hit,
   return true;
 }
 
-bool Scene::occluded(const Vec3& a, const Vec3& b) const {
-  const Vec3 d = b - a;
-  const double distance_squared = dot(d, d);
-  if (distance_squared <= 4.0 * epsilon_ * epsilon_) return false;
+bool Scene::occluded(const ShadowRay& shadow) const {
+  if (shadow.empty) return false;
   // The ray runs along d itself (Embree takes unnormalised directions), so t is the fraction of
   // the segment, both ends excluded by epsilon: the direction needs no division, and its
   // conversion need not wait for the square root.
-  const double margin = epsilon_ / std::sqrt(distance_squared);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray;
-  fill_ray(ray, a, d, static_cast<float>(margin), static_cast<float>(1.0 - margin));
+  fill_ray(ray, shadow.origin, shadow.d, static_cast<float>(shadow.margin),
+           static_cast<float>(1.0 - shadow.margin));
   if (ray_log_ != nullptr) [[unlikely]]
     log_ray(ray, true, *ray_log_);
   rtcOccluded1(embree_->handle(), &context, &ray);

@@ -3,6 +3,7 @@
 // materials let the estimators skip.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -65,7 +66,28 @@ class Scene {
   bool intersect(const Vec3& origin, const Vec3& direction, Hit& hit,
                  double max_distance = 1e30) const;
   // Whether anything lies strictly between a and b (both ends excluded by epsilon).
-  bool occluded(const Vec3& a, const Vec3& b) const;
+  bool occluded(const Vec3& a, const Vec3& b) const { return occluded(shadow_ray(a, b)); }
+
+  // A shadow ray from a to b = a + d, set up apart from tracing it so that a caller that has the
+  // segment's length already (connect) shares it, and the margin's division runs while the
+  // caller does other work instead of just before Embree waits for it.
+  struct ShadowRay {
+    Vec3 origin, d;
+    double margin = 0.0;  // epsilon / |d|: the fraction of d left out at each end
+    bool empty = true;    // the ends are within 2 epsilon: nothing lies between them
+  };
+  // `distance` = sqrt(distance_squared) = |b - a|.
+  ShadowRay shadow_ray(const Vec3& a, const Vec3& b, double distance_squared,
+                       double distance) const {
+    if (distance_squared <= 4.0 * epsilon_ * epsilon_) return {a, b - a, 0.0, true};
+    return {a, b - a, epsilon_ / distance, false};
+  }
+  ShadowRay shadow_ray(const Vec3& a, const Vec3& b) const {
+    const Vec3 d = b - a;
+    const double distance_squared = dot(d, d);
+    return shadow_ray(a, b, distance_squared, std::sqrt(distance_squared));
+  }
+  bool occluded(const ShadowRay& ray) const;
 
   // Distances below this count as self-intersections: a small fraction of the scene's size.
   double epsilon() const { return epsilon_; }
