@@ -27,11 +27,12 @@ void random_walk(const Scene& scene, RandomStream& rng, Vec3 direction, double d
         previous_delta ? 0.0
                        : direction_pdf * std::abs(dot(normal, direction)) * inv_distance_squared;
     const Material& material = scene.material(hit.triangle);
-    // Built in place, every member given: a local vertex copied in was zeroed first (rep stos)
-    // and its copy stalled reading across the stores that filled it.
+    // Every member given, so nothing is zeroed first (a local vertex zeroed with rep stos and
+    // copied in had stalled). Braces, not emplace_back's parentheses: clang 15 (Debian 12's, the
+    // asan build) has no parenthesised aggregate initialisation.
     const PathVertex& v = path.emplace_back(
-        VertexKind::kSurface, previous.position + hit.distance * direction, normal, -direction,
-        hit.triangle, beta, pdf_fwd, 0.0, is_delta(material), false);
+        PathVertex{VertexKind::kSurface, previous.position + hit.distance * direction, normal,
+                   -direction, hit.triangle, beta, pdf_fwd, 0.0, is_delta(material), false});
     if (path.size() == max_vertices) return;
 
     const double u1 = rng.uniform(), u2 = rng.uniform();
