@@ -10,12 +10,21 @@
 // embree_rays_per_second is the share of a render's time that tracing would take if nothing else
 // cost anything; 1 − ratio is what the estimator's own work costs. Both rates come from one
 // benchmark run, side by side, as the targets ask.
+//
+// BM_ShadowPackets/<estimator>/<scene>/<width> asks what tracing shadow rays in batches would buy
+// (issue 27's "rays in batches through Embree's packet interface"): the same logged rays, the
+// closest-hit ones one by one, the shadow rays in packets of `width` consecutive ones
+// (rtcOccluded4/8/16), against all of them one by one: packet_speedup is the rate of the
+// first over the second. The log keeps the render's order, so a packet holds what one camera
+// vertex and its neighbours in the pixel loop send; a renderer would need to gather as many.
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
 #include <oneapi/tbb/global_control.h>
 
+#include <algorithm>
 #include <ctime>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -85,18 +94,30 @@ double embree_rate(const std::vector<Triangle>& triangles, const std::vector<Log
   return static_cast<double>(traced) / elapsed;
 }
 
-void BM_RayRate(benchmark::State& state, const std::string& estimator, const std::string& name) {
-  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+std::unique_ptr<Scene> ray_rate_scene(const std::string& name) {
   auto description = built_in_scene(name);
   description->width = kRayRateResolution;
   description->height = kRayRateResolution;
-  const Scene scene(std::move(*description));
+  return std::make_unique<Scene>(std::move(*description));
+}
+
+// Every ray of replicate 0's render, as Embree was given it, and the render's counters.
+TraceCounters log_replicate_rays(const Scene& scene, const SceneEstimator& estimator,
+                                 std::vector<LoggedRay>& log) {
+  scene.log_rays(&log);
+  const TraceCounters logged = render_replicate(scene, estimator, 1, 0, 1).counters;
+  scene.log_rays(nullptr);
+  return logged;
+}
+
+void BM_RayRate(benchmark::State& state, const std::string& estimator, const std::string& name) {
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const std::unique_ptr<Scene> scene_owner = ray_rate_scene(name);
+  const Scene& scene = *scene_owner;
   const auto made = make_scene_estimator(estimator);
 
   std::vector<LoggedRay> log;
-  scene.log_rays(&log);
-  const TraceCounters logged = render_replicate(scene, *made, 1, 0, 1).counters;
-  scene.log_rays(nullptr);
+  const TraceCounters logged = log_replicate_rays(scene, *made, log);
   // Rays the trace counters leave out as set-up (pcbpt's cache paths), the same count each
   // iteration: counted per iteration so that the rate covers every ray traced.
   const std::uint64_t counted = logged.camera_rays + logged.light_rays + logged.shadow_rays;
@@ -127,12 +148,91 @@ void BM_RayRate(benchmark::State& state, const std::string& estimator, const std
       static_cast<double>(logged.shadow_rays) / static_cast<double>(log.size());
 }
 
+// Rays per CPU second of Embree over the logged rays: the closest-hit rays one by one, then the
+// shadow rays in packets of kWidth consecutive ones (a partial last packet masked).
+template <std::size_t kWidth, class Packet, class Occluded>
+double embree_packet_rate(const std::vector<Triangle>& triangles, const std::vector<LoggedRay>& log,
+                          Occluded occluded) {
+  const EmbreeScene raw(triangles);
+  std::vector<RTCRay> closest, shadow;
+  for (const LoggedRay& logged : log) (logged.occlusion ? shadow : closest).push_back(embree_ray(logged));
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  std::uint64_t traced = 0, hits = 0;
+  const double start = thread_cpu_seconds();
+  double elapsed = 0.0;
+  while (elapsed < kReplaySeconds) {
+    for (const RTCRay& ray : closest) {
+      RTCRayHit rh;
+      rh.ray = ray;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(raw.handle(), &context, &rh);
+      hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    }
+    for (std::size_t first = 0; first < shadow.size(); first += kWidth) {
+      const std::size_t count = std::min(kWidth, shadow.size() - first);
+      alignas(64) int valid[kWidth];
+      alignas(64) Packet packet;
+      for (std::size_t k = 0; k < kWidth; ++k) {
+        valid[k] = k < count ? -1 : 0;
+        const RTCRay& ray = shadow[first + std::min(k, count - 1)];
+        packet.org_x[k] = ray.org_x;
+        packet.org_y[k] = ray.org_y;
+        packet.org_z[k] = ray.org_z;
+        packet.tnear[k] = ray.tnear;
+        packet.dir_x[k] = ray.dir_x;
+        packet.dir_y[k] = ray.dir_y;
+        packet.dir_z[k] = ray.dir_z;
+        packet.time[k] = ray.time;
+        packet.tfar[k] = ray.tfar;
+        packet.mask[k] = ray.mask;
+        packet.id[k] = ray.id;
+        packet.flags[k] = ray.flags;
+      }
+      occluded(valid, raw.handle(), &context, &packet);
+      for (std::size_t k = 0; k < count; ++k) hits += packet.tfar[k] < 0.0f;
+    }
+    traced += log.size();
+    elapsed = thread_cpu_seconds() - start;
+  }
+  benchmark::DoNotOptimize(hits);
+  return static_cast<double>(traced) / elapsed;
+}
+
+void BM_ShadowPackets(benchmark::State& state, const std::string& estimator,
+                      const std::string& name, int width) {
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const std::unique_ptr<Scene> scene = ray_rate_scene(name);
+  const auto made = make_scene_estimator(estimator);
+  std::vector<LoggedRay> log;
+  const TraceCounters logged = log_replicate_rays(*scene, *made, log);
+  const std::vector<Triangle>& triangles = scene->description().triangles;
+  double one_by_one = 0.0, packets = 0.0;
+  for (auto _ : state) {
+    one_by_one = embree_rate(triangles, log);
+    if (width == 4) packets = embree_packet_rate<4, RTCRay4>(triangles, log, rtcOccluded4);
+    if (width == 8) packets = embree_packet_rate<8, RTCRay8>(triangles, log, rtcOccluded8);
+    if (width == 16) packets = embree_packet_rate<16, RTCRay16>(triangles, log, rtcOccluded16);
+  }
+  state.counters["packet_speedup"] = packets / one_by_one;
+  state.counters["shadow_share"] =
+      static_cast<double>(logged.shadow_rays) / static_cast<double>(log.size());
+}
+
 void register_ray_rate_benchmarks() {
   for (const std::string scene : {"cornell", "door-ajar"}) {
     for (const std::string estimator : {"bdpt", "pt", "lt", "lvc", "vc-all", "pcbpt"}) {
       benchmark::RegisterBenchmark(("BM_RayRate/" + estimator + "/" + scene).c_str(), BM_RayRate,
                                    estimator, scene)
           ->Unit(benchmark::kMillisecond);
+      for (const int width : {4, 8, 16}) {
+        benchmark::RegisterBenchmark(
+            ("BM_ShadowPackets/" + estimator + "/" + scene + "/" + std::to_string(width)).c_str(),
+            BM_ShadowPackets, estimator, scene, width)
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(1);
+      }
     }
   }
 }
