@@ -1,8 +1,9 @@
 // The ray-rate ratio of every scene estimator (issue 27): how close a whole render iteration comes
 // to Embree tracing the same rays alone.
 //
-// BM_RayRate/<estimator>/<scene> renders one iteration at 32×32 on one thread per benchmark
-// iteration (replicates 0, 1, 2, …, as a run takes them) and counts its rays: rays_per_second.
+// BM_RayRate/<estimator>/<scene> renders one iteration at 32×32 (BM_RayRate/pcbpt/<scene>/128 at
+// 128×128) on one thread per benchmark iteration (replicates 0, 1, 2, …, as a run takes them)
+// and counts its rays: rays_per_second.
 // Before timing, replicate 0 is rendered once with the scene's ray log on (Scene::log_rays), which
 // records every ray as Embree was given it, in order; after timing, those rays are traced again by
 // rtcIntersect1/rtcOccluded1 alone on a BVH built here over the same triangles, in the same order
@@ -38,6 +39,9 @@ namespace pcbench::scene {
 namespace {
 
 constexpr std::uint32_t kRayRateResolution = 32;
+// pcbpt also at 128×128, where its cache points' tables (cache points × candidates, about 4 MB)
+// no longer fit in the cache and their misses show; at 32×32 they do not.
+constexpr std::uint32_t kLargeResolution = 128;
 // The replay repeats the logged rays until it has run this long, for a stable rate.
 constexpr double kReplaySeconds = 0.2;
 
@@ -94,10 +98,11 @@ double embree_rate(const std::vector<Triangle>& triangles, const std::vector<Log
   return static_cast<double>(traced) / elapsed;
 }
 
-std::unique_ptr<Scene> ray_rate_scene(const std::string& name) {
+std::unique_ptr<Scene> ray_rate_scene(const std::string& name,
+                                      std::uint32_t resolution = kRayRateResolution) {
   auto description = built_in_scene(name);
-  description->width = kRayRateResolution;
-  description->height = kRayRateResolution;
+  description->width = resolution;
+  description->height = resolution;
   return std::make_unique<Scene>(std::move(*description));
 }
 
@@ -110,9 +115,10 @@ TraceCounters log_replicate_rays(const Scene& scene, const SceneEstimator& estim
   return logged;
 }
 
-void BM_RayRate(benchmark::State& state, const std::string& estimator, const std::string& name) {
+void BM_RayRate(benchmark::State& state, const std::string& estimator, const std::string& name,
+                std::uint32_t resolution) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-  const std::unique_ptr<Scene> scene_owner = ray_rate_scene(name);
+  const std::unique_ptr<Scene> scene_owner = ray_rate_scene(name, resolution);
   const Scene& scene = *scene_owner;
   const auto made = make_scene_estimator(estimator);
 
@@ -224,7 +230,7 @@ void register_ray_rate_benchmarks() {
   for (const std::string scene : {"cornell", "door-ajar"}) {
     for (const std::string estimator : {"bdpt", "pt", "lt", "lvc", "vc-all", "pcbpt"}) {
       benchmark::RegisterBenchmark(("BM_RayRate/" + estimator + "/" + scene).c_str(), BM_RayRate,
-                                   estimator, scene)
+                                   estimator, scene, kRayRateResolution)
           ->Unit(benchmark::kMillisecond);
       for (const int width : {4, 8, 16}) {
         benchmark::RegisterBenchmark(
@@ -234,6 +240,12 @@ void register_ray_rate_benchmarks() {
             ->Iterations(1);
       }
     }
+  }
+  for (const std::string scene : {"cornell", "door-ajar"}) {
+    benchmark::RegisterBenchmark(("BM_RayRate/pcbpt/" + scene + "/" +
+                                  std::to_string(kLargeResolution)).c_str(),
+                                 BM_RayRate, "pcbpt", scene, kLargeResolution)
+        ->Unit(benchmark::kMillisecond);
   }
 }
 
