@@ -65,6 +65,32 @@ RTCRay embree_ray(const LoggedRay& logged) {
   return ray;
 }
 
+// Whether a closest-hit query of `ray` finds anything.
+bool closest_hit(RTCScene scene, RTCIntersectContext& context, const RTCRay& ray) {
+  RTCRayHit rh;
+  rh.ray = ray;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene, &context, &rh);
+  return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+}
+
+// Rays per CPU second of `pass` (which traces `rays` rays and returns how many hit), repeated
+// until kReplaySeconds of this thread's CPU time have passed.
+template <class Pass>
+double replay_rate(std::size_t rays, Pass&& pass) {
+  std::uint64_t traced = 0, hits = 0;
+  const double start = thread_cpu_seconds();
+  double elapsed = 0.0;
+  while (elapsed < kReplaySeconds) {
+    hits += pass();
+    traced += rays;
+    elapsed = thread_cpu_seconds() - start;
+  }
+  benchmark::DoNotOptimize(hits);
+  return static_cast<double>(traced) / elapsed;
+}
+
 // Rays per CPU second of Embree alone over the logged rays, in their order.
 double embree_rate(const std::vector<Triangle>& triangles, const std::vector<LoggedRay>& log) {
   const EmbreeScene raw(triangles);
@@ -73,29 +99,19 @@ double embree_rate(const std::vector<Triangle>& triangles, const std::vector<Log
   for (const LoggedRay& logged : log) rays.push_back(embree_ray(logged));
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  std::uint64_t traced = 0, hits = 0;
-  const double start = thread_cpu_seconds();
-  double elapsed = 0.0;
-  while (elapsed < kReplaySeconds) {
+  return replay_rate(rays.size(), [&] {
+    std::uint64_t hits = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
       if (log[i].occlusion) {
         RTCRay ray = rays[i];
         rtcOccluded1(raw.handle(), &context, &ray);
         hits += ray.tfar < 0.0f;
       } else {
-        RTCRayHit rh;
-        rh.ray = rays[i];
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(raw.handle(), &context, &rh);
-        hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        hits += closest_hit(raw.handle(), context, rays[i]);
       }
     }
-    traced += rays.size();
-    elapsed = thread_cpu_seconds() - start;
-  }
-  benchmark::DoNotOptimize(hits);
-  return static_cast<double>(traced) / elapsed;
+    return hits;
+  });
 }
 
 std::unique_ptr<Scene> ray_rate_scene(const std::string& name,
@@ -161,21 +177,14 @@ double embree_packet_rate(const std::vector<Triangle>& triangles, const std::vec
                           Occluded occluded) {
   const EmbreeScene raw(triangles);
   std::vector<RTCRay> closest, shadow;
-  for (const LoggedRay& logged : log) (logged.occlusion ? shadow : closest).push_back(embree_ray(logged));
+  for (const LoggedRay& logged : log) {
+    (logged.occlusion ? shadow : closest).push_back(embree_ray(logged));
+  }
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  std::uint64_t traced = 0, hits = 0;
-  const double start = thread_cpu_seconds();
-  double elapsed = 0.0;
-  while (elapsed < kReplaySeconds) {
-    for (const RTCRay& ray : closest) {
-      RTCRayHit rh;
-      rh.ray = ray;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-      rtcIntersect1(raw.handle(), &context, &rh);
-      hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-    }
+  return replay_rate(log.size(), [&] {
+    std::uint64_t hits = 0;
+    for (const RTCRay& ray : closest) hits += closest_hit(raw.handle(), context, ray);
     for (std::size_t first = 0; first < shadow.size(); first += kWidth) {
       const std::size_t count = std::min(kWidth, shadow.size() - first);
       alignas(64) int valid[kWidth];
@@ -199,11 +208,8 @@ double embree_packet_rate(const std::vector<Triangle>& triangles, const std::vec
       occluded(valid, raw.handle(), &context, &packet);
       for (std::size_t k = 0; k < count; ++k) hits += packet.tfar[k] < 0.0f;
     }
-    traced += log.size();
-    elapsed = thread_cpu_seconds() - start;
-  }
-  benchmark::DoNotOptimize(hits);
-  return static_cast<double>(traced) / elapsed;
+    return hits;
+  });
 }
 
 void BM_ShadowPackets(benchmark::State& state, const std::string& estimator,
