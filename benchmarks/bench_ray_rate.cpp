@@ -248,9 +248,9 @@ void register_ray_rate_benchmarks() {
     }
   }
   for (const std::string scene : {"cornell", "door-ajar"}) {
-    benchmark::RegisterBenchmark(("BM_RayRate/pcbpt/" + scene + "/" +
-                                  std::to_string(kLargeResolution)).c_str(),
-                                 BM_RayRate, "pcbpt", scene, kLargeResolution)
+    benchmark::RegisterBenchmark(
+        ("BM_RayRate/pcbpt/" + scene + "/" + std::to_string(kLargeResolution)).c_str(), BM_RayRate,
+        "pcbpt", scene, kLargeResolution)
         ->Unit(benchmark::kMillisecond);
   }
 }
