@@ -26,17 +26,15 @@ class NeePass final : public scene::ScenePass {
   NeePass(const scene::RenderServices& services, std::uint32_t emitter_samples)
       : services_(services), emitter_samples_(emitter_samples) {}
 
-  scene::Rgb connections(const scene::LightPool&, scene::CameraPrefix& prefix) const override {
+  // Queued: the renderer traces the shadow rays of a whole row of pixels in packets, then adds
+  // each connection (share × its MIS-weighted value) to the pixel and to its strategy image.
+  bool queues_connections() const override { return true; }
+  void queue_connections(const scene::LightPool&, scene::CameraPrefix& prefix,
+                         scene::ConnectionQueue& queue) const override {
     const double share = 1.0 / emitter_samples_;
-    scene::Rgb value;
     for (std::uint32_t n = 0; n < emitter_samples_; ++n) {
-      const scene::PathVertex emitter =
-          scene::sample_emitter_vertex(services_.scene(), prefix.draws);
-      const scene::Rgb v = share * services_.connect(std::span(&emitter, 1), prefix);
-      services_.record(1, prefix, v);  // the strategy images must add up to the image
-      value += v;
+      queue.connect(scene::sample_emitter_vertex(services_.scene(), prefix.draws), prefix, share);
     }
-    return value;
   }
 
  private:

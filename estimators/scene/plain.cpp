@@ -15,19 +15,14 @@ namespace {
 
 class BdptPass final : public scene::ScenePass {
  public:
-  explicit BdptPass(const scene::RenderServices& services) : services_(services) {}
-
-  scene::Rgb connections(const scene::LightPool& pool, scene::CameraPrefix& prefix) const override {
+  bool queues_connections() const override { return true; }
+  void queue_connections(const scene::LightPool& pool, scene::CameraPrefix& prefix,
+                         scene::ConnectionQueue& queue) const override {
     const scene::Subpath& path = pool.paths[prefix.pixel];
-    scene::Rgb value;
     for (std::uint32_t s = 1; s <= std::min<std::uint32_t>(prefix.max_s, path.size()); ++s) {
-      value += services_.connect_recorded(std::span(path).first(s), prefix);
+      queue.connect(std::span(path).first(s), prefix);
     }
-    return value;
   }
-
- private:
-  const scene::RenderServices& services_;
 };
 
 class Bdpt final : public scene::SceneEstimator {
@@ -39,9 +34,8 @@ class Bdpt final : public scene::SceneEstimator {
     const double pool = pool_size(scene);
     return {.emitter_hit = 1.0, .next_event = 1.0, .connection = 1.0, .light_tracing = pool};
   }
-  std::unique_ptr<scene::ScenePass> begin_replicate(
-      const scene::RenderServices& services) const override {
-    return std::make_unique<BdptPass>(services);
+  std::unique_ptr<scene::ScenePass> begin_replicate(const scene::RenderServices&) const override {
+    return std::make_unique<BdptPass>();
   }
 };
 

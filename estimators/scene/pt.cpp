@@ -21,13 +21,18 @@ class PathTracingPass final : public ScenePass {
   PathTracingPass(const RenderServices& services, const PtConfig& config)
       : services_(services), config_(config) {}
 
-  Rgb connections(const LightPool&, CameraPrefix& prefix) const override {
+  // pt itself queues its one next-event connection per prefix; the control, which scales it,
+  // connects at once.
+  bool queues_connections() const override { return config_.next_event_count == 1.0; }
+  void queue_connections(const LightPool&, CameraPrefix& prefix,
+                         ConnectionQueue& queue) const override {
     // From the camera stream, where the pixel's subpath left it.
-    const PathVertex emitter = sample_emitter_vertex(services_.scene(), prefix.camera);
-    if (config_.next_event_count == 1.0) {
-      return services_.connect_recorded(std::span(&emitter, 1), prefix);
-    }
+    queue.connect(sample_emitter_vertex(services_.scene(), prefix.camera), prefix);
+  }
+
+  Rgb connections(const LightPool&, CameraPrefix& prefix) const override {
     // The control's mistake (ctl_scene_nee_count.cpp): one sample divided by another count.
+    const PathVertex emitter = sample_emitter_vertex(services_.scene(), prefix.camera);
     const Rgb value = services_.connect(std::span(&emitter, 1), prefix) / config_.next_event_count;
     services_.record(1, prefix, value);
     return value;

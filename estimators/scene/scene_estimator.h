@@ -14,7 +14,8 @@
 //     some is never a reference for them),
 //   - and, through the ScenePass it makes per replicate: per-iteration preparation from the
 //     pool (where a guided estimator builds its distributions), the connections of one
-//     camera prefix, and what needs other pixels' camera vertices (spatial reuse).
+//     camera prefix (queued for the renderer to trace a row's shadow rays in packets, or
+//     computed at once), and what needs other pixels' camera vertices (spatial reuse).
 // The loop that runs it is estimators/scene/render_replicate.h; the renderer's services (tracing
 // with the run's streams, connect() with its MIS weight, splats, strategy tallies, counters) are
 // all an estimator uses. Each estimator is a file in estimators/scene/ named after its registry
@@ -25,6 +26,7 @@
 #include <memory>
 
 #include "integrands/scenes/connection.h"
+#include "integrands/scenes/connection_queue.h"
 #include "integrands/scenes/render_services.h"
 #include "integrands/scenes/scene.h"
 
@@ -47,9 +49,27 @@ class ScenePass {
   }
 
   // The connections of camera prefix y_0 .. y_{t-1} (t >= 2, prefix.max_s >= 1) with light
-  // vertices: their sum, each MIS-weighted by RenderServices::connect and its share recorded by
-  // RenderServices::record (the strategy images must add up to the image).
-  virtual Rgb connections(const LightPool& pool, CameraPrefix& prefix) const = 0;
+  // vertices, in one of two forms. A pass implements one of them.
+  //
+  // Queued (when queues_connections() is true): each connection asked of `queue`
+  // (ConnectionQueue::connect, integrands/scenes/connection_queue.h) as it is found; the
+  // renderer resolves a row's queue at once, its shadow rays in Embree packets, and adds and
+  // records each connection whole. The form for estimators that add each connection as it is.
+  virtual bool queues_connections() const { return false; }
+  virtual void queue_connections(const LightPool& pool, CameraPrefix& prefix,
+                                 ConnectionQueue& queue) const {
+    (void)pool;
+    (void)prefix;
+    (void)queue;
+  }
+  // Immediate: their sum, each MIS-weighted by RenderServices::connect (its shadow ray traced
+  // there and then) and its share recorded by RenderServices::record (the strategy images must
+  // add up to the image). The form for estimators that scale or resample what they connect.
+  virtual Rgb connections(const LightPool& pool, CameraPrefix& prefix) const {
+    (void)pool;
+    (void)prefix;
+    return {};
+  }
 
   // Contributions of iteration `index` that need other pixels' camera vertices (restir's
   // spatial reuse, from the slots connections() left): added to `sum` (per-pixel sums of the

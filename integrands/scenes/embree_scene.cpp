@@ -43,6 +43,16 @@ EmbreeScene::EmbreeScene(const std::vector<Triangle>& triangles) {
   rtcCommitScene(scene_);
 }
 
+std::uint32_t EmbreeScene::native_packet_width() {
+  static const std::uint32_t width = [] {
+    const RTCDevice device = shared_device();
+    if (rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED)) return 16u;
+    if (rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED)) return 8u;
+    return 4u;
+  }();
+  return width;
+}
+
 EmbreeScene::~EmbreeScene() {
   if (scene_) rtcReleaseScene(scene_);
 }

@@ -7,6 +7,7 @@
 #include <emmintrin.h>
 
 #include <bit>
+#include <cstdint>
 #include <vector>
 
 #include "integrands/scenes/scene_description.h"
@@ -39,6 +40,8 @@ class EmbreeScene {
   EmbreeScene& operator=(const EmbreeScene&) = delete;
 
   RTCScene handle() const { return scene_; }
+  // 16, 8 or 4: the widest ray packet this Embree build traces natively on this machine.
+  static std::uint32_t native_packet_width();
 
  private:
   RTCScene scene_ = nullptr;

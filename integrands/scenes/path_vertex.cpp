@@ -1,5 +1,6 @@
 #include "integrands/scenes/path_vertex.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "integrands/scenes/bsdf.h"
@@ -8,51 +9,56 @@
 namespace pcbench::scene {
 namespace {
 
-// Continues a subpath from its last vertex by BSDF sampling until it has `max_vertices`
-// vertices, leaves the scene, or a sample is invalid. `direction` and `direction_pdf` (solid angle)
-// describe the first extension, already sampled by the caller (camera or emitter).
-void random_walk(const Scene& scene, RandomStream& rng, Vec3 direction, double direction_pdf,
-                 Rgb beta, std::size_t max_vertices, std::vector<PathVertex>& path,
+// Continues a subpath from its last vertex by BSDF sampling until it has `walk.max_vertices`
+// vertices, leaves the scene, or a sample is invalid, one ray at a time.
+void random_walk(const Scene& scene, RandomStream& rng, Walk& walk, std::vector<PathVertex>& path,
                  std::uint64_t& rays) {
-  bool previous_delta = false;
-  while (path.size() < max_vertices) {
-    PathVertex& previous = path.back();
+  while (path.size() < walk.max_vertices) {
     Hit hit;
     ++rays;
-    if (!scene.intersect(previous.position, direction, hit)) return;
-    // The segment's length is the hit distance: the area conversions below need no square root.
-    const double inv_distance_squared = 1.0 / (hit.distance * hit.distance);
-    const Vec3& normal = scene.normal(hit.triangle);
-    const double pdf_fwd =
-        previous_delta ? 0.0
-                       : direction_pdf * std::abs(dot(normal, direction)) * inv_distance_squared;
-    const Material& material = scene.material(hit.triangle);
-    // Every member given, so nothing is zeroed first (a local vertex zeroed with rep stos and
-    // copied in had stalled). Braces, not emplace_back's parentheses: clang 15 (Debian 12's, the
-    // asan build) has no parenthesised aggregate initialisation.
-    const PathVertex& v = path.emplace_back(
-        PathVertex{VertexKind::kSurface, previous.position + hit.distance * direction, normal,
-                   -direction, hit.triangle, beta, pdf_fwd, 0.0, is_delta(material), false});
-    if (path.size() == max_vertices) return;
-
-    const double u1 = rng.uniform(), u2 = rng.uniform();
-    const BsdfSample s = bsdf_sample(material, v.normal, v.to_previous, u1, u2);
-    if (!s.valid) return;
-    beta = beta * s.f * (std::abs(dot(s.wi, v.normal)) / s.pdf);
-    if (beta.is_black()) return;
-    // The density of walking back from the next vertex to the previous one, at the previous.
-    PathVertex& current = path.back();
-    PathVertex& before = path[path.size() - 2];
-    before.pdf_rev = s.delta ? 0.0
-                             : bsdf_pdf(material, current.normal, s.wi, current.to_previous) *
-                                   abs_cos_at(before, current.to_previous) * inv_distance_squared;
-    direction = s.wi;
-    direction_pdf = s.pdf;
-    previous_delta = s.delta;
+    if (!scene.intersect(path.back().position, walk.direction, hit)) return;
+    if (!walk_step(scene, rng, hit, path, walk)) return;
   }
 }
 
 }  // namespace
+
+bool walk_step(const Scene& scene, RandomStream& rng, const Hit& hit, std::vector<PathVertex>& path,
+               Walk& walk) {
+  const PathVertex& previous = path.back();
+  const Vec3 direction = walk.direction;
+  // The segment's length is the hit distance: the area conversions below need no square root.
+  const double inv_distance_squared = 1.0 / (hit.distance * hit.distance);
+  const Vec3& normal = scene.normal(hit.triangle);
+  const double pdf_fwd =
+      walk.previous_delta
+          ? 0.0
+          : walk.direction_pdf * std::abs(dot(normal, direction)) * inv_distance_squared;
+  const Material& material = scene.material(hit.triangle);
+  // Every member given, so nothing is zeroed first (a local vertex zeroed with rep stos and
+  // copied in had stalled). Braces, not emplace_back's parentheses: clang 15 (Debian 12's, the
+  // asan build) has no parenthesised aggregate initialisation.
+  const PathVertex& v = path.emplace_back(
+      PathVertex{VertexKind::kSurface, previous.position + hit.distance * direction, normal,
+                 -direction, hit.triangle, walk.beta, pdf_fwd, 0.0, is_delta(material), false});
+  if (path.size() == walk.max_vertices) return false;
+
+  const double u1 = rng.uniform(), u2 = rng.uniform();
+  const BsdfSample s = bsdf_sample(material, v.normal, v.to_previous, u1, u2);
+  if (!s.valid) return false;
+  walk.beta = walk.beta * s.f * (std::abs(dot(s.wi, v.normal)) / s.pdf);
+  if (walk.beta.is_black()) return false;
+  // The density of walking back from the next vertex to the previous one, at the previous.
+  PathVertex& current = path.back();
+  PathVertex& before = path[path.size() - 2];
+  before.pdf_rev = s.delta ? 0.0
+                           : bsdf_pdf(material, current.normal, s.wi, current.to_previous) *
+                                 abs_cos_at(before, current.to_previous) * inv_distance_squared;
+  walk.direction = s.wi;
+  walk.direction_pdf = s.pdf;
+  walk.previous_delta = s.delta;
+  return true;
+}
 
 Rgb emitted_towards(const Scene& scene, const PathVertex& v, const Vec3& direction) {
   if (v.point_light) return scene.description().point_lights[v.triangle].intensity;
@@ -66,9 +72,8 @@ double emission_pdf(const PathVertex& v, const Vec3& w) {
   return c > 0.0 ? c * kInvPi : 0.0;
 }
 
-void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& rng,
-                       std::uint32_t max_length, std::vector<PathVertex>& path,
-                       TraceCounters& counters) {
+Walk start_camera_path(const Scene& scene, double fx, double fy, std::uint32_t max_length,
+                       std::vector<PathVertex>& path) {
   path.clear();
   // A fresh vector: one allocation, not one per doubling.
   path.reserve(std::size_t{max_length} + 1);
@@ -79,8 +84,17 @@ void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& r
   y0.beta = {1.0, 1.0, 1.0};
   path.push_back(y0);
   const Vec3 direction = camera.direction(fx, fy);
-  random_walk(scene, rng, direction, camera.pixel_pdf(camera.cos_theta(direction)), {1.0, 1.0, 1.0},
-              std::size_t{max_length} + 1, path, counters.camera_rays);
+  return {.direction = direction,
+          .direction_pdf = camera.pixel_pdf(camera.cos_theta(direction)),
+          .beta = {1.0, 1.0, 1.0},
+          .max_vertices = std::size_t{max_length} + 1};
+}
+
+void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& rng,
+                       std::uint32_t max_length, std::vector<PathVertex>& path,
+                       TraceCounters& counters) {
+  Walk walk = start_camera_path(scene, fx, fy, max_length, path);
+  random_walk(scene, rng, walk, path, counters.camera_rays);
 }
 
 PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng) {
@@ -99,13 +113,14 @@ PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng) {
           .point_light = e.point_light};
 }
 
-void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_length,
-                      std::vector<PathVertex>& path, TraceCounters& counters) {
+std::optional<Walk> start_light_path(const Scene& scene, RandomStream& rng,
+                                     std::uint32_t max_length, std::vector<PathVertex>& path,
+                                     TraceCounters& counters) {
   path.clear();
-  path.reserve(std::max<std::size_t>(max_length, 1));  // as in trace_camera_path
+  path.reserve(std::max<std::size_t>(max_length, 1));  // as in start_camera_path
   ++counters.light_paths;
   path.push_back(sample_emitter_vertex(scene, rng));
-  if (max_length < 2) return;
+  if (max_length < 2) return std::nullopt;
   const PathVertex& x0 = path.back();
   const double u1 = rng.uniform(), u2 = rng.uniform();
   Vec3 direction;
@@ -119,11 +134,18 @@ void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_l
   } else {
     direction = sample_cosine_hemisphere(x0.normal, u1, u2);
     pdf = dot(direction, x0.normal) * kInvPi;
-    if (!(pdf > 0.0)) return;
+    if (!(pdf > 0.0)) return std::nullopt;
   }
   const Rgb radiance = emitted_towards(scene, x0, direction);
   const Rgb beta = x0.beta * radiance * (abs_cos_at(x0, direction) / pdf);
-  random_walk(scene, rng, direction, pdf, beta, max_length, path, counters.light_rays);
+  return Walk{
+      .direction = direction, .direction_pdf = pdf, .beta = beta, .max_vertices = max_length};
+}
+
+void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_length,
+                      std::vector<PathVertex>& path, TraceCounters& counters) {
+  std::optional<Walk> walk = start_light_path(scene, rng, max_length, path, counters);
+  if (walk) random_walk(scene, rng, *walk, path, counters.light_rays);
 }
 
 }  // namespace pcbench::scene

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "base/rng.h"
@@ -54,6 +55,30 @@ struct TraceCounters {
     splats += o.splats;
   }
 };
+
+// A subpath's walk between two rays: where it goes next and what it carries.
+struct Walk {
+  Vec3 direction;                // of the next ray, from the path's last vertex
+  double direction_pdf = 0.0;    // its solid-angle density
+  Rgb beta;                      // the throughput the next vertex will carry
+  std::size_t max_vertices = 0;  // the walk stops when the path has this many
+  bool previous_delta = false;   // the last vertex scattered specularly
+};
+
+// The first vertex of a camera subpath through film position (fx, fy), y0, and its walk (path
+// cleared first).
+Walk start_camera_path(const Scene& scene, double fx, double fy, std::uint32_t max_length,
+                       std::vector<PathVertex>& path);
+// The first vertex of a light subpath, x0 from `rng`, and its walk, or none when it ends there
+// (path cleared first).
+std::optional<Walk> start_light_path(const Scene& scene, RandomStream& rng,
+                                     std::uint32_t max_length, std::vector<PathVertex>& path,
+                                     TraceCounters& counters);
+// One step of a walk whose ray hit `hit`: adds the vertex and samples the next direction from
+// `rng`. False when the walk ends here (the path is full, or the sample is invalid or black).
+// The walks below and the lanes of path_lanes.h are this step after each ray.
+bool walk_step(const Scene& scene, RandomStream& rng, const Hit& hit, std::vector<PathVertex>& path,
+               Walk& walk);
 
 // Camera subpath through film position (fx, fy): y0 at the camera, then up to
 // max_length surface vertices. Clears `path` first.

@@ -1,10 +1,12 @@
 #include "integrands/scenes/render_services.h"
 
+#include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
 #include <optional>
 
+#include "integrands/scenes/path_lanes.h"
 #include "integrands/scenes/strategy_tally.h"
 
 namespace pcbench::scene {
@@ -43,6 +45,40 @@ std::vector<LightVertexRef> light_vertices(const LightPool& pool) {
   return vertices;
 }
 
+struct RenderServices::CameraRow {
+  std::vector<Subpath> paths;
+  std::vector<RandomStream> streams;
+  std::vector<WalkLane> lanes;
+  LaneBuffers buffers;
+  ConnectionQueue queue;
+};
+
+namespace {
+
+// A chunk of light paths' lanes (trace_pool).
+struct LightLanes {
+  std::vector<RandomStream> streams;
+  std::vector<WalkLane> lanes;
+  LaneBuffers buffers;
+};
+
+// A chunk of light paths' connections to the camera (splat).
+struct SplatBatch {
+  std::vector<ConnectionPair> pairs;
+  std::vector<std::uint32_t> strategy;
+  std::vector<Rgb> values;
+  std::vector<std::optional<PixelPosition>> pixels;
+  ConnectionBatch batch;
+};
+
+}  // namespace
+
+struct RenderServices::Scratch {
+  tbb::enumerable_thread_specific<CameraRow> rows;
+  tbb::enumerable_thread_specific<LightLanes> light_lanes;
+  tbb::enumerable_thread_specific<SplatBatch> splat_batches;
+};
+
 RenderServices::RenderServices(const Scene& scene, const StrategyCounts& counts, std::uint64_t key,
                                std::uint32_t replicate, StrategyTally* strategies)
     : scene_(scene),
@@ -52,27 +88,37 @@ RenderServices::RenderServices(const Scene& scene, const StrategyCounts& counts,
       width_(scene.description().width),
       height_(scene.description().height),
       max_length_(scene.description().max_length),
-      strategies_(strategies) {}
+      strategies_(strategies),
+      scratch_(std::make_unique<Scratch>()) {}
+
+RenderServices::~RenderServices() = default;
 
 StreamId RenderServices::stream(StreamPurpose purpose, std::uint32_t sample,
                                 std::uint32_t path) const {
   return {.key = key_, .replicate = replicate_, .purpose = purpose, .sample = sample, .path = path};
 }
 
-LightPool RenderServices::trace_pool(std::uint32_t index, std::uint32_t m,
-                                     TraceCounters& counters) const {
-  LightPool pool;
+void RenderServices::trace_pool(std::uint32_t index, std::uint32_t m, LightPool& pool,
+                                TraceCounters& counters) const {
   pool.paths.resize(m);
   const std::uint32_t chunks = (m + kLightChunk - 1) / kLightChunk;
   std::vector<TraceCounters> chunk_counters(chunks);
   tbb::parallel_for(std::uint32_t{0}, chunks, [&](std::uint32_t c) {
-    for (std::uint32_t j = c * kLightChunk; j < std::min(m, (c + 1) * kLightChunk); ++j) {
-      RandomStream rng(stream(StreamPurpose::kLightPool, index, j));
-      trace_light_path(scene_, rng, max_length_, pool.paths[j], chunk_counters[c]);
+    // The chunk's paths walked in lanes (path_lanes.h), each from its own stream.
+    LightLanes& lanes = scratch_->light_lanes.local();
+    const std::uint32_t first = c * kLightChunk, end = std::min(m, (c + 1) * kLightChunk);
+    lanes.streams.clear();
+    lanes.streams.reserve(end - first);
+    lanes.lanes.clear();
+    for (std::uint32_t j = first; j < end; ++j) {
+      RandomStream& rng = lanes.streams.emplace_back(stream(StreamPurpose::kLightPool, index, j));
+      std::optional<Walk> walk =
+          start_light_path(scene_, rng, max_length_, pool.paths[j], chunk_counters[c]);
+      if (walk) lanes.lanes.push_back({*walk, &rng, &pool.paths[j]});
     }
+    walk_lanes(scene_, lanes.lanes, lanes.buffers, chunk_counters[c].light_rays);
   });
   for (const TraceCounters& c : chunk_counters) counters.add(c);
-  return pool;
 }
 
 void RenderServices::splat(const LightPool& pool, Image& sum, TraceCounters& counters) const {
@@ -82,16 +128,25 @@ void RenderServices::splat(const LightPool& pool, Image& sum, TraceCounters& cou
   std::vector<TraceCounters> chunk_counters(chunks);
   const PathVertex camera_vertex = camera_start(scene_);
   tbb::parallel_for(std::uint32_t{0}, chunks, [&](std::uint32_t c) {
+    // The chunk's connections to the camera as one batch, their shadow rays in packets.
+    SplatBatch& b = scratch_->splat_batches.local();
+    b.pairs.clear();
+    b.strategy.clear();
     for (std::uint32_t j = c * kLightChunk; j < std::min(m, (c + 1) * kLightChunk); ++j) {
       const Subpath& path = pool.paths[j];
       for (std::uint32_t s = 1; s <= path.size() && s <= max_length_; ++s) {
-        std::optional<PixelPosition> pixel;
-        const Rgb v = scene::connect(scene_, std::span(path).first(s), std::span(&camera_vertex, 1),
-                                     counts_, {}, chunk_counters[c], &pixel);
-        if (!pixel || v.is_black()) continue;
-        ++chunk_counters[c].splats;
-        splats[c].push_back({pixel->y * width_ + pixel->x, s, v / m});
+        b.pairs.push_back({std::span(path).first(s), std::span(&camera_vertex, 1)});
+        b.strategy.push_back(s);
       }
+    }
+    b.values.resize(b.pairs.size());
+    b.pixels.assign(b.pairs.size(), std::nullopt);
+    b.batch.connect_all(scene_, counts_, b.pairs, b.values, chunk_counters[c], b.pixels);
+    for (std::size_t i = 0; i < b.pairs.size(); ++i) {
+      const std::optional<PixelPosition>& pixel = b.pixels[i];
+      if (!pixel || b.values[i].is_black()) continue;
+      ++chunk_counters[c].splats;
+      splats[c].push_back({pixel->y * width_ + pixel->x, b.strategy[i], b.values[i] / m});
     }
   });
   // In chunk order, so the sums do not depend on the thread count.
@@ -104,28 +159,94 @@ void RenderServices::splat(const LightPool& pool, Image& sum, TraceCounters& cou
   }
 }
 
+void RenderServices::walk_camera_row(std::uint32_t index, std::uint32_t y, CameraRow& row,
+                                     TraceCounters& counters) const {
+  row.paths.resize(width_);
+  row.streams.clear();
+  row.streams.reserve(width_);
+  row.lanes.clear();
+  for (std::uint32_t x = 0; x < width_; ++x) {
+    RandomStream& rng =
+        row.streams.emplace_back(stream(StreamPurpose::kCameraPath, index, y * width_ + x));
+    const double fx = x + rng.uniform(), fy = y + rng.uniform();
+    const Walk walk = start_camera_path(scene_, fx, fy, max_length_, row.paths[x]);
+    row.lanes.push_back({walk, &rng, &row.paths[x]});
+  }
+  walk_lanes(scene_, row.lanes, row.buffers, counters.camera_rays);
+}
+
 void RenderServices::camera_pass(std::uint32_t index, Image& sum, TraceCounters& counters,
                                  const PrefixVisitor& each) const {
   std::vector<TraceCounters> row_counters(height_);
   tbb::parallel_for(std::uint32_t{0}, height_, [&](std::uint32_t y) {
-    Subpath camera;
+    CameraRow& row = scratch_->rows.local();
+    walk_camera_row(index, y, row, row_counters[y]);
     for (std::uint32_t x = 0; x < width_; ++x) {
       const std::uint32_t pixel = y * width_ + x;
-      RandomStream rng(stream(StreamPurpose::kCameraPath, index, pixel));
-      const double fx = x + rng.uniform(), fy = y + rng.uniform();
-      trace_camera_path(scene_, fx, fy, rng, max_length_, camera, row_counters[y]);
+      const Subpath& camera = row.paths[x];
       RandomStream draws(stream(StreamPurpose::kResampling, index, pixel));
       Rgb value;
       for (std::uint32_t t = 2; t <= camera.size(); ++t) {
         CameraPrefix prefix{.pixel = pixel,
                             .vertices = std::span<const PathVertex>(camera).first(t),
                             .max_s = t <= max_length_ ? max_length_ + 1 - t : 0,
-                            .camera = rng,
+                            .camera = row.streams[x],
                             .draws = draws,
                             .counters = row_counters[y]};
         each(prefix, value);
       }
       add(sum, pixel, value);
+    }
+  });
+  for (const TraceCounters& c : row_counters) counters.add(c);
+}
+
+void RenderServices::camera_pass_queued(std::uint32_t index, Image& sum, TraceCounters& counters,
+                                        bool emitter_hits, const QueueingVisitor& each) const {
+  std::vector<TraceCounters> row_counters(height_);
+  tbb::parallel_for(std::uint32_t{0}, height_, [&](std::uint32_t y) {
+    CameraRow& row = scratch_->rows.local();
+    walk_camera_row(index, y, row, row_counters[y]);
+    ConnectionQueue& queue = row.queue;
+    queue.clear();
+    for (std::uint32_t x = 0; x < width_; ++x) {
+      const std::uint32_t pixel = y * width_ + x;
+      const Subpath& camera = row.paths[x];
+      RandomStream draws(stream(StreamPurpose::kResampling, index, pixel));
+      for (std::uint32_t t = 2; t <= camera.size(); ++t) {
+        CameraPrefix prefix{.pixel = pixel,
+                            .vertices = std::span<const PathVertex>(camera).first(t),
+                            .max_s = t <= max_length_ ? max_length_ + 1 - t : 0,
+                            .camera = row.streams[x],
+                            .draws = draws,
+                            .counters = row_counters[y]};
+        const Rgb hit = emitter_hits ? connect_recorded({}, prefix) : Rgb{};
+        queue.begin_prefix(prefix, emitter_hits, hit);
+        if (prefix.max_s > 0) each(prefix, queue);
+      }
+    }
+    queue.resolve(scene_, counts_, row_counters[y]);
+    // Each pixel's prefixes are consecutive, in order of t.
+    Rgb value;
+    std::uint32_t pixel = y * width_;
+    for (const ConnectionQueue::Prefix& p : queue.prefixes()) {
+      for (; pixel < p.pixel; ++pixel) {
+        add(sum, pixel, value);
+        value = {};
+      }
+      if (p.adds_emitter_hit) value += p.emitter_hit;
+      if (!p.connects) continue;
+      Rgb connections;
+      for (std::uint32_t i = p.first; i < p.end; ++i) {
+        connections += queue.value(i);
+        record(queue.strategy(i), static_cast<std::uint32_t>(p.camera.size()), p.pixel,
+               queue.value(i));
+      }
+      value += connections;
+    }
+    for (; pixel < (y + 1) * width_; ++pixel) {
+      add(sum, pixel, value);
+      value = {};
     }
   });
   for (const TraceCounters& c : row_counters) counters.add(c);

@@ -12,11 +12,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "base/rng.h"
 #include "integrands/scenes/connection.h"
+#include "integrands/scenes/connection_queue.h"
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/scene.h"
 #include "results/image.h"
@@ -65,6 +67,7 @@ class RenderServices {
   // `strategies` (may be null) receives every recorded contribution again, by strategy.
   RenderServices(const Scene& scene, const StrategyCounts& counts, std::uint64_t key,
                  std::uint32_t replicate, StrategyTally* strategies);
+  ~RenderServices();
 
   const Scene& scene() const { return scene_; }
   const StrategyCounts& counts() const { return counts_; }
@@ -77,8 +80,12 @@ class RenderServices {
   // The replicate's stream for `purpose` (iteration or other index `sample`, path or pixel).
   StreamId stream(StreamPurpose purpose, std::uint32_t sample, std::uint32_t path) const;
 
-  // `m` light subpaths for iteration `index`, path j from stream (kLightPool, index, j).
-  LightPool trace_pool(std::uint32_t index, std::uint32_t m, TraceCounters& counters) const;
+  // `m` light subpaths for iteration `index`, path j from stream (kLightPool, index, j), into
+  // `pool`, whose paths' storage from the last iteration is reused: allocating and freeing
+  // every path each iteration let glibc return the heap to the system and fault it in again,
+  // which had cost BDPT at 128×128 about 40% of its time (docs/findings/lanes.md).
+  void trace_pool(std::uint32_t index, std::uint32_t m, LightPool& pool,
+                  TraceCounters& counters) const;
 
   // Light tracing: every prefix of every pool path connected to the camera (t = 1), weighted
   // 1 / (pool size), added to `sum` and recorded as strategy (s, 1).
@@ -91,6 +98,14 @@ class RenderServices {
   using PrefixVisitor = std::function<void(CameraPrefix& prefix, Rgb& value)>;
   void camera_pass(std::uint32_t index, Image& sum, TraceCounters& counters,
                    const PrefixVisitor& each) const;
+  // The same with the connections deferred (connection_queue.h): `each` queues the connections
+  // of each prefix; a row's queue is resolved with its shadow rays in packets, then every pixel
+  // adds, prefix by prefix, its emitter hit (when `emitter_hits`: strategy (0, t), recorded)
+  // and the sum of its connections (each recorded whole): the numbers camera_pass adds when
+  // `each` adds the emitter hit and then the connections one by one.
+  using QueueingVisitor = std::function<void(CameraPrefix& prefix, ConnectionQueue& queue)>;
+  void camera_pass_queued(std::uint32_t index, Image& sum, TraceCounters& counters,
+                          bool emitter_hits, const QueueingVisitor& each) const;
 
   // Strategy (light.size(), prefix.t()) with its MIS weight (connect() in connection.h); light
   // empty: the prefix's own emitter hit (s = 0). Counted in prefix.counters.
@@ -108,12 +123,20 @@ class RenderServices {
   Rgb connect_recorded(std::span<const PathVertex> light, const CameraPrefix& prefix) const;
 
  private:
+  struct CameraRow;  // a row's camera subpaths and their streams (render_services.cpp)
+  // Each thread's rows, light lanes and splat batches, kept from one iteration to the next.
+  struct Scratch;
+  // Walks row y's camera subpaths of iteration `index` in lanes.
+  void walk_camera_row(std::uint32_t index, std::uint32_t y, CameraRow& row,
+                       TraceCounters& counters) const;
+
   const Scene& scene_;
   StrategyCounts counts_;
   std::uint64_t key_;
   std::uint32_t replicate_;
   std::uint32_t width_, height_, max_length_;
   StrategyTally* strategies_;
+  std::unique_ptr<Scratch> scratch_;
 };
 
 }  // namespace pcbench::scene

@@ -79,6 +79,7 @@ Scene::Scene(SceneDescription description)
     traits_.has_specular |= m.kind == MaterialKind::kMirror;
   }
   traits_.has_point_lights = emitters_->has_point_lights();
+  packet_width_ = embree_->native_packet_width();
 }
 
 Scene::~Scene() = default;
@@ -96,15 +97,22 @@ bool Scene::intersect(const Vec3& origin, const Vec3& direction, Hit& hit,
     log_ray(rh.ray, false, *ray_log_);
   rtcIntersect1(embree_->handle(), &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  hit.triangle = rh.hit.primID;
+  hit = hit_of(rh.hit.primID, rh.ray.tfar, origin, direction);
+  return true;
+}
+
+Hit Scene::hit_of(std::uint32_t primitive, float tfar, const Vec3& origin,
+                  const Vec3& direction) const {
+  Hit hit;
+  hit.triangle = primitive;
   // The distance is recomputed in double against the triangle's plane, so that the hit point
   // lies on the triangle to double precision (float tfar would put it off the surface).
   const Triangle& t = description_.triangles[hit.triangle];
   const Vec3& n = normals_[hit.triangle];
   const double denominator = dot(direction, n);
-  hit.distance = denominator != 0.0 ? dot(t.p0 - origin, n) / denominator : rh.ray.tfar;
-  if (!(hit.distance > 0.0)) hit.distance = rh.ray.tfar;
-  return true;
+  hit.distance = denominator != 0.0 ? dot(t.p0 - origin, n) / denominator : tfar;
+  if (!(hit.distance > 0.0)) hit.distance = tfar;
+  return hit;
 }
 
 bool Scene::occluded(const ShadowRay& shadow) const {
