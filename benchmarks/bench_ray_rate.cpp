@@ -1,8 +1,8 @@
 // The ray-rate ratio of every scene estimator (issue 27): how close a whole render iteration comes
 // to Embree tracing the same rays alone.
 //
-// BM_RayRate/<estimator>/<scene> renders one iteration at 32×32 (BM_RayRate/pcbpt/<scene>/128 at
-// 128×128) on one thread per benchmark iteration (replicates 0, 1, 2, …, as a run takes them)
+// BM_RayRate/<estimator>/<scene> renders one iteration at 32×32 (BM_RayRate/{pcbpt,bdpt,pt}/
+// <scene>/128 at 128×128) on one thread per benchmark iteration (replicates 0, 1, 2, …, as a run takes them)
 // and counts its rays: rays_per_second.
 // Before timing, replicate 0 is rendered once with the scene's ray log on (Scene::log_rays), which
 // records every ray as Embree was given it, in order; after timing, those rays are traced again by
@@ -247,11 +247,16 @@ void register_ray_rate_benchmarks() {
       }
     }
   }
+  // At 128×128: pcbpt, whose cache points' tables no longer fit in the cache there, and the
+  // two estimators the renderer's lanes were built for first (BDPT's pool is W·H paths).
   for (const std::string scene : {"cornell", "door-ajar"}) {
-    benchmark::RegisterBenchmark(
-        ("BM_RayRate/pcbpt/" + scene + "/" + std::to_string(kLargeResolution)).c_str(), BM_RayRate,
-        "pcbpt", scene, kLargeResolution)
-        ->Unit(benchmark::kMillisecond);
+    for (const std::string estimator : {"pcbpt", "bdpt", "pt"}) {
+      benchmark::RegisterBenchmark(
+          ("BM_RayRate/" + estimator + "/" + scene + "/" + std::to_string(kLargeResolution))
+              .c_str(),
+          BM_RayRate, estimator, scene, kLargeResolution)
+          ->Unit(benchmark::kMillisecond);
+    }
   }
 }
 
