@@ -1,6 +1,7 @@
 #include "image_arrays.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <vector>
 
@@ -11,10 +12,16 @@ namespace {
 
 namespace py = pybind11;
 
-std::string shape_text(const py::array& array) {
+std::vector<std::string> sizes_of(const py::array& array) {
   std::vector<std::string> sizes;
   for (py::ssize_t d = 0; d < array.ndim(); ++d) sizes.push_back(std::to_string(array.shape(d)));
-  return "(" + fmt::format("{}", fmt::join(sizes, ", ")) + (sizes.size() == 1 ? ",)" : ")");
+  return sizes;
+}
+
+// numpy's way: "(24, 32, 3)".
+std::string shape_text(const py::array& array) {
+  const std::vector<std::string> sizes = sizes_of(array);
+  return fmt::format("({}{})", fmt::join(sizes, ", "), sizes.size() == 1 ? "," : "");
 }
 
 bool is_float32(const py::array& array) {
@@ -98,7 +105,7 @@ std::string pixel_type_of(const py::array& array) {
 }
 
 std::string describe_array(const py::array& array) {
-  return fmt::format("array of shape {}, {}", shape_text(array),
+  return fmt::format("{} {} array", fmt::join(sizes_of(array), " x "),
                      py::str(array.dtype()).cast<std::string>());
 }
 

@@ -31,7 +31,8 @@ ImageSet image_set_from_array(const pybind11::array& array, const std::string& n
 Image image_from_array(const pybind11::array& array, const std::string& name,
                        const std::optional<ChannelIndices>& channels);
 
-// "array of shape (R, H, W, C), float32": what a set is called in messages and the report.
+// "16 x 32 x 48 x 3 float32 array": what an array is called in messages and the report (no
+// parentheses: a comparison's label puts its self-check's scale in them).
 std::string describe_array(const pybind11::array& array);
 
 }  // namespace pcbench::python

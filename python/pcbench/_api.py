@@ -7,7 +7,7 @@ import math
 import os
 import shutil
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
@@ -50,9 +50,9 @@ class ImageVerification:
     as_expected: bool
     reason: str
     p_adjusted: float
-    scales: pd.DataFrame
-    report: dict
-    out: Optional[str]
+    scales: pd.DataFrame = field(repr=False)
+    report: dict = field(repr=False)
+    out: Optional[str] = None
 
     @property
     def comparison(self):
@@ -82,8 +82,8 @@ class EstimatesVerification:
     min_detectable_bias: float
     mean: float
     tail_shape: float
-    report: dict
-    out: Optional[str]
+    report: dict = field(repr=False)
+    out: Optional[str] = None
 
 
 @dataclass(frozen=True)
@@ -93,9 +93,9 @@ class SessionResult:
     (the CLI's: 0, or 1 when a verdict differs from its expectation), and the report's runs and
     comparisons as DataFrames (read_report's columns)."""
 
-    report: dict
-    out: Optional[str]
-    exit_status: int
+    report: dict = field(repr=False)
+    out: Optional[str] = None
+    exit_status: int = 0
 
     @property
     def runs(self):
