@@ -104,6 +104,24 @@ class VerifyImagesMatchesCli(unittest.TestCase):
                          [len(s["blocks_differing"]) for s in scales])
         self.assertEqual(found.p_adjusted, cli_report["comparisons"][0]["p_adjusted"])
 
+    def test_paired_sets(self):
+        # Replicate k of both sets from the same streams: b is a with a little noise of its own.
+        a = replicates(10, 6)
+        b = (a * (1.0 + 0.01 * np.random.default_rng(11).standard_normal(a.shape))).astype(
+            np.float32)
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "cli")
+            cli("verify", "--images", *write_exr_set(tmp, "a", a), "--against",
+                *write_exr_set(tmp, "b", b), "--paired", "--out", out, expect_status=0)
+            with open(os.path.join(out, "report.json")) as f:
+                cli_report = json.load(f)
+        found = pcbench.verify_images(a, against=b, paired=True)
+        self.check_same(found, cli_report)
+        self.assertTrue(found.comparison["paired"])
+        # The paired test sees far smaller biases than Welch's on the same sets.
+        welch = pcbench.verify_images(a, against=b)
+        self.assertLess(found.scales["relative_mdb"][0], welch.scales["relative_mdb"][0] / 4)
+
     def test_against_a_constant_and_paths(self):
         a = replicates(3, 5)
         with tempfile.TemporaryDirectory() as tmp:
