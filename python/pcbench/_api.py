@@ -305,7 +305,8 @@ def run(suite=None, *, estimators=None, integrands=None, params=None, samples=No
     samples (per replicate; per pixel on scenes) or seconds (equal time), replicates, seed,
     threads: as the CLI's options; interleave, paired, require_mdb ({"tile": 0.05}): likewise.
     out: the folder of the report (and images); without it the report goes to a temporary
-    folder that is removed once read. verbose: the CLI's progress and summary table.
+    folder that is removed once read. verbose: the CLI's summary table as it prints it, and
+    what it wrote on stderr (warnings) once it returns; quiet otherwise.
 
     The run executes without the GIL; Ctrl-C stops it as it stops the command (the report of
     the finished runs is written into out) and raises KeyboardInterrupt. Raises ValueError for
