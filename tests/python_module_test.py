@@ -115,6 +115,10 @@ class VerifyImagesMatchesCli(unittest.TestCase):
                 *write_exr_set(tmp, "b", b), "--paired", "--out", out, expect_status=0)
             with open(os.path.join(out, "report.json")) as f:
                 cli_report = json.load(f)
+            refused = cli("verify", "--images", *write_exr_set(tmp, "a", a), "--constant", "1",
+                          "--paired", "--out", os.path.join(tmp, "refused"), expect_status=2)
+            self.assertIn("--paired with --images goes with --against SET2", refused.stderr)
+            self.assertFalse(os.path.exists(os.path.join(tmp, "refused")))
         found = pcbench.verify_images(a, against=b, paired=True)
         self.check_same(found, cli_report)
         self.assertTrue(found.comparison["paired"])
