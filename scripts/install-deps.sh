@@ -3,8 +3,8 @@
 # the build uses only these packages. Skips apt entirely when all are already installed.
 #
 # Usage: bash scripts/install-deps.sh [run|all]
-#   run  what building pcbench and drawing its page need (the README's first command,
-#        scripts/run-default.sh)
+#   run  what building pcbench and its Python module and drawing its page need (the README's
+#        first command, scripts/run-default.sh)
 #   all  (the default) also the tests, benchmarks, format check, the clang sanitizer and fuzz
 #        build, Open MPI and the browser of the page test (scripts/test.sh)
 set -euo pipefail
@@ -16,6 +16,7 @@ run_packages=(
   libembree-dev libnanoflann-dev libopenexr-dev libimath-dev libtinyobjloader-dev
   libopenimageio-dev
   python3 python3-matplotlib python3-openimageio
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pandas
 )
 test_packages=(
   clang-format openexr

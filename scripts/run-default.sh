@@ -6,10 +6,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # Only what the default suite and its page need: the packages to build pcbench and plot, and the
-# pcbench target (the test command, scripts/test.sh, installs and builds the rest).
+# pcbench target, with the Python module beside it (build/release/python: docs/guide/python.md);
+# the test command, scripts/test.sh, installs and builds the rest.
 bash scripts/install-deps.sh run
 cmake --preset release -DPCBENCH_TESTS=OFF -DPCBENCH_BENCHMARKS=OFF >/dev/null
-cmake --build --preset release --target pcbench
+cmake --build --preset release --target pcbench pcbench_python
 
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT

@@ -15,7 +15,7 @@ layer and of the layers below it, never one above:
   harness/verify/    statistics and verification, and the run records they make
   harness/session/   a session: runs, tests and publishes its report
   harness/commands/  the command line and one file per command
-examples/, benchmarks/, tests/ and fuzz/ are programs and may include anything.
+examples/, benchmarks/, tests/, fuzz/ and python/ are programs and may include anything.
 So no header of estimators/, integrands/ or results/ includes one from the harness's running or
 command layers, and a file directly in harness/ (outside a layer folder) is refused too.
 

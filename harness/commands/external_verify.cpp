@@ -54,18 +54,21 @@ std::vector<ReplicateResult> as_replicates(const std::vector<double>& estimates)
 
 }  // namespace
 
-int run_external_verification(const ExternalRequest& request, const SessionOptions& options,
-                              std::ostream& out, std::ostream& err) {
+void check_external_request(const ExternalRequest& request) {
   if (request.reference.has_value() == request.against.has_value()) {
     throw InputError(
         "command line: --estimates needs exactly one of --reference V[±U] and --against FILE");
   }
-  const std::vector<double> estimates = read_estimates(request.estimates, request.run_id);
+}
+
+EstimatesVerification verify_estimates(const std::vector<double>& estimates,
+                                       const std::vector<double>& other,
+                                       const ExternalRequest& request,
+                                       const SessionOptions& options) {
   const SampleDiagnostics diagnostics = diagnose_estimates(estimates);
 
   Verdict verdict;
   nlohmann::json reference_json = nullptr;
-  std::vector<double> other;
   if (request.reference) {
     const ReferenceValue value = parse_reference(*request.reference);
     const Reference reference{
@@ -76,7 +79,6 @@ int run_external_verification(const ExternalRequest& request, const SessionOptio
                                      kDecimalRoundings);
     reference_json = {{"value", value.value}, {"uncertainty", value.uncertainty}};
   } else {
-    other = read_estimates(*request.against);
     const double bound = rounding_bound(as_replicates(estimates), kDecimalRoundings) +
                          rounding_bound(as_replicates(other), kDecimalRoundings);
     verdict = two_sample_verdict(with_rounding_floor(welch_two_sample(estimates, other), bound),
@@ -90,24 +92,38 @@ int run_external_verification(const ExternalRequest& request, const SessionOptio
 
   double mean = 0.0;
   for (double x : estimates) mean += x / static_cast<double>(estimates.size());
-  ReportSections sections;
-  sections.external.push_back(
-      {{"estimates_file", request.estimates},
-       {"replicates", estimates.size()},
-       {"mean", mean},
-       {"reference", reference_json},
-       {"against_file", request.against ? nlohmann::json(*request.against) : nlohmann::json()},
-       {"against_replicates", other.size()},
-       {"tail_shape", std::isfinite(diagnostics.tail_shape) ? nlohmann::json(diagnostics.tail_shape)
-                                                            : nlohmann::json()},
-       {"verdict", verdict_to_json(verdict)}});
+  return {.verdict = verdict,
+          .mean = mean,
+          .external = {{"estimates_file", request.estimates},
+                       {"replicates", estimates.size()},
+                       {"mean", mean},
+                       {"reference", reference_json},
+                       {"against_file",
+                        request.against ? nlohmann::json(*request.against) : nlohmann::json()},
+                       {"against_replicates", other.size()},
+                       {"tail_shape", std::isfinite(diagnostics.tail_shape)
+                                          ? nlohmann::json(diagnostics.tail_shape)
+                                          : nlohmann::json()},
+                       {"verdict", verdict_to_json(verdict)}}};
+}
+
+int run_external_verification(const ExternalRequest& request, const SessionOptions& options,
+                              std::ostream& out, std::ostream& err) {
+  check_external_request(request);
+  const std::vector<double> estimates = read_estimates(request.estimates, request.run_id);
+  const std::vector<double> other =
+      request.against ? read_estimates(*request.against) : std::vector<double>{};
+  const EstimatesVerification verification = verify_estimates(estimates, other, request, options);
+  const Verdict& verdict = verification.verdict;
   out << fmt::format(
       "{} estimates from {}: mean {:.6g}; {} ({}); minimum detectable bias {:.3g}{}\n",
-      estimates.size(), request.estimates, mean, verdict.result, verdict.reason,
+      estimates.size(), request.estimates, verification.mean, verdict.result, verdict.reason,
       verdict.min_detectable_bias,
       estimates.size() < kMinReplicatesForTail
           ? fmt::format(" (tail not checked: fewer than {} replicates)", kMinReplicatesForTail)
           : std::string());
+  ReportSections sections;
+  sections.external.push_back(verification.external);
   if (!publish_report(options, sections, out, err)) return kExitRunFailed;
   return verdict.result == verdict.expect ? kExitOk : kExitVerdictDiffers;
 }

@@ -10,10 +10,13 @@
 #pragma once
 
 #include <iosfwd>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "harness/session/session.h"
+#include "harness/verify/statistics.h"
 
 namespace pcbench {
 
@@ -26,6 +29,25 @@ struct ExternalRequest {
   std::optional<std::string> against = {};    // a second file of estimates
   std::string expect = "consistent";
 };
+
+// The request's own check: exactly one of a reference and a second set. Throws InputError.
+void check_external_request(const ExternalRequest& request);
+
+// Replicate estimates tested: the verdict (decided at options.alpha), their mean and their
+// entry of the report's `external` section.
+struct EstimatesVerification {
+  Verdict verdict;
+  double mean = 0.0;
+  nlohmann::json external;
+};
+
+// The test of `estimates` (read and checked: finite, at least two) against request.reference,
+// or two-sample against `other` when request.against names it; the CLI and the Python module
+// call this alike. Throws InputError for a malformed reference. Writes nothing.
+EstimatesVerification verify_estimates(const std::vector<double>& estimates,
+                                       const std::vector<double>& other,
+                                       const ExternalRequest& request,
+                                       const SessionOptions& options);
 
 // Reads, tests, writes the report and prints the verdict; bad input throws InputError before
 // anything is written. Exit status as for `run`.

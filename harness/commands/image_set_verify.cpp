@@ -91,8 +91,9 @@ std::string rounding_formats(const ImageSet& set, const ImageSet* other,
   return join_names(parts, "; ");
 }
 
-// The request's own checks, before any file is read.
-void check_request(const ImageSetRequest& request, const SessionOptions& options) {
+}  // namespace
+
+void check_image_set_request(const ImageSetRequest& request, const SessionOptions& options) {
   const int references = static_cast<int>(request.against.has_value()) +
                          static_cast<int>(request.reference_image.has_value()) +
                          static_cast<int>(request.constant.has_value());
@@ -100,6 +101,9 @@ void check_request(const ImageSetRequest& request, const SessionOptions& options
     throw InputError(
         "command line: --images needs exactly one of --against SET, --reference-image FILE and "
         "--constant V|R,G,B");
+  }
+  if (request.paired && !request.against) {
+    throw InputError("command line: --paired with --images goes with --against SET2");
   }
   if (request.reference_stderr && !request.reference_image) {
     throw InputError("command line: --reference-stderr goes with --reference-image");
@@ -111,6 +115,8 @@ void check_request(const ImageSetRequest& request, const SessionOptions& options
         fmt::format("command line: --expect '{}': consistent or biased", request.expect));
   }
 }
+
+namespace {
 
 // What `input` is tested against, from the option that named it.
 Against against_of(const ImageSetRequest& request, const ImageSetInput& input) {
@@ -146,7 +152,8 @@ TestedFamily test_family(const ImageSetInput& input, const Against& against,
   const Image& like = input.set.images.front();
   const std::size_t scales = pyramid_block_sizes(like.width, like.height, request.tile).size();
   const PyramidOptions blocks{.tile = request.tile,
-                              .family_size = static_cast<std::uint32_t>(1 + scales)};
+                              .family_size = static_cast<std::uint32_t>(1 + scales),
+                              .paired = request.paired};
   const auto test = [&](const std::vector<Image>& images) {
     if (input.other) return compare_blocks(images, input.other->images, options.alpha, blocks);
     if (input.reference_stderr) {
@@ -237,7 +244,8 @@ void note_rounding(const ImageSetInput& input, const PixelMaps& maps,
 
 // The mean, standard error and z map as EXR files in folder/images/; their names by kind, or
 // nothing when they cannot be written (said on `err`).
-std::optional<Json> write_images(const fs::path& folder, const PixelMaps& maps, std::ostream& err) {
+std::optional<Json> write_images(const fs::path& folder, const ImageSetVerification& maps,
+                                 std::ostream& err) {
   Json files;
   try {
     fs::create_directories(folder / "images");
@@ -246,8 +254,8 @@ std::optional<Json> write_images(const fs::path& folder, const PixelMaps& maps, 
       write_exr_rgb(folder / name, image);
       files[kind] = name;
     };
-    write("mean", maps.stats.mean);
-    write("stderr", maps.stats.standard_error);
+    write("mean", maps.mean);
+    write("stderr", maps.standard_error);
     write("zmap", maps.z);
   } catch (const std::exception& e) {
     err << "pcbench: error: cannot write the images of " << folder.string() << ": " << e.what()
@@ -289,36 +297,60 @@ Json image_sets_json(const ImageSetRequest& request, const ImageSetInput& input,
 
 }  // namespace
 
-int run_image_set_verification(const ImageSetRequest& request, const SessionOptions& options,
-                               std::ostream& out, std::ostream& err) {
-  check_request(request, options);
-  // Everything is read and checked before anything is written.
-  const ImageSetInput input = read_image_set_input(request);
+ImageSetVerification verify_image_set(const ImageSetRequest& request, const ImageSetInput& input,
+                                      const SessionOptions& options) {
   const Against against = against_of(request, input);
   TestedFamily tested = test_family(input, against, request, options);
-  warn_about_values(input.set, err);
-  if (input.other) warn_about_values(*input.other, err);
-
-  const fs::path folder = report_folder(options);
   const PixelMaps maps = pixel_maps(input);
   note_rounding(input, maps, request, tested);
-  const std::optional<Json> files = write_images(folder, maps, err);
-  if (!files) return kExitRunFailed;
+  ImageSetVerification verification;
+  verification.image_sets = image_sets_json(request, input, against, maps.pixels, Json(nullptr));
+  verification.comparisons = std::move(tested.comparisons);
+  verification.mean = maps.stats.mean;
+  verification.standard_error = maps.stats.standard_error;
+  verification.z = maps.z;
+  return verification;
+}
 
+ReportSections image_set_sections(const ImageSetVerification& verification) {
   ReportSections sections;
-  sections.comparisons = comparisons_json(tested.comparisons);
-  sections.image_sets = image_sets_json(request, input, against, maps.pixels, *files);
-  for (const Comparison& c : tested.comparisons) {
+  sections.comparisons = comparisons_json(verification.comparisons);
+  sections.image_sets = verification.image_sets;
+  return sections;
+}
+
+int publish_image_set_verification(ImageSetVerification verification, const SessionOptions& options,
+                                   std::ostream& out, std::ostream& err) {
+  const fs::path folder = report_folder(options);
+  const std::optional<Json> files = write_images(folder, verification, err);
+  if (!files) return kExitRunFailed;
+  verification.image_sets["image_files"] = *files;
+  for (const Comparison& c : verification.comparisons) {
     out << fmt::format("{}: {}{} ({})\n", c.estimator, c.result,
                        c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect),
                        c.reason);
   }
-  if (!publish_report(options, folder, session_context(options), {}, sections, out, err)) {
+  if (!publish_report(options, folder, session_context(options), {},
+                      image_set_sections(verification), out, err)) {
     return kExitRunFailed;
   }
-  const bool as_expected = std::all_of(tested.comparisons.begin(), tested.comparisons.end(),
-                                       [](const Comparison& c) { return c.result == c.expect; });
-  return as_expected ? kExitOk : kExitVerdictDiffers;
+  return comparisons_as_expected(verification.comparisons) ? kExitOk : kExitVerdictDiffers;
+}
+
+bool comparisons_as_expected(const std::vector<Comparison>& comparisons) {
+  return std::all_of(comparisons.begin(), comparisons.end(),
+                     [](const Comparison& c) { return c.result == c.expect; });
+}
+
+int run_image_set_verification(const ImageSetRequest& request, const SessionOptions& options,
+                               std::ostream& out, std::ostream& err) {
+  check_image_set_request(request, options);
+  // Everything is read and checked before anything is written.
+  const ImageSetInput input = read_image_set_input(request);
+  ImageSetVerification verification = verify_image_set(request, input, options);
+  warn_about_values(input.set, err);
+  if (input.other) warn_about_values(*input.other, err);
+  return publish_image_set_verification(std::move(verification), options, out, err);
 }
 
 }  // namespace pcbench

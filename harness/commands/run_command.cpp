@@ -219,7 +219,8 @@ void add_run_options(CLI::App* app, RunArguments& args) {
   app->add_flag("--paired", args.paired,
                 "scene runs share their random streams between estimators (the same camera paths "
                 "and light pools per replicate) and their block pyramids test the replicate "
-                "differences (paired t): more power where the estimators' images correlate");
+                "differences (paired t): more power where the estimators' images correlate; "
+                "with verify --images SET --against SET2: the sets are replicate pairs");
   app->add_flag("--strategy-images", args.strategy_images,
                 "scene runs also write images/<id>_strategies.exr: the mean image of each (s, t) "
                 "connection strategy, one layer each, and their shares of the image");

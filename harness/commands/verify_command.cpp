@@ -61,6 +61,7 @@ ImageSetCheck image_set_check(const VerifyArguments& args, const FileLists& file
   ImageSetRequest request = args.images;
   request.images = files.images;
   request.against = files.against;
+  request.paired = run.paired;
   if (!args.crop.empty()) request.read.crop = parse_crop(args.crop);
   // Only checked: the input files are read after this, and bad input must leave no folder.
   // The folder is made when the report and images are written (write_file_atomically).

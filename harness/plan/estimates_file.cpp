@@ -67,15 +67,17 @@ std::size_t parse_number_prefix(std::string_view text, double& value, bool& out_
   return static_cast<std::size_t>(end - text.data());
 }
 
+std::string nonfinite_problem(std::size_t replicate, const std::string& text) {
+  return fmt::format(
+      "replicate {} (counting from 0) is '{}', not a finite number; pcbench does not drop "
+      "non-finite estimates: find out why the renderer produced it",
+      replicate, text);
+}
+
 // What is wrong with `text` as one finite estimate ("" if nothing): `value` is set when not.
 std::string number_problem(std::string_view text, std::size_t replicate, double& value) {
   if (text.empty()) return "empty cell; expected a number";
-  if (names_nonfinite(text)) {
-    return fmt::format(
-        "replicate {} (counting from 0) is '{}', not a finite number; pcbench does not drop "
-        "non-finite estimates: find out why the renderer produced it",
-        replicate, excerpt(text));
-  }
+  if (names_nonfinite(text)) return nonfinite_problem(replicate, excerpt(text));
   bool out_of_range = false;
   const std::size_t used = parse_number_prefix(text, value, out_of_range);
   if (used != text.size() || used == 0) {
@@ -524,6 +526,17 @@ std::vector<double> read_estimates(const std::filesystem::path& file,
   in.fail("", fmt::format("expected an array of numbers, an object with key \"estimates\", or a "
                           "pcbench report (an object with \"runs\"); found {}",
                           found));
+}
+
+void check_estimates(const std::vector<double>& estimates, const std::string& name) {
+  for (std::size_t i = 0; i < estimates.size(); ++i) {
+    if (!std::isfinite(estimates[i])) {
+      throw InputError(
+          fmt::format("{}: {}", name, nonfinite_problem(i, fmt::format("{}", estimates[i]))));
+    }
+  }
+  if (estimates.size() < 2)
+    throw InputError(fmt::format("{}: {}", name, too_few(estimates.size())));
 }
 
 ReportData read_report(const std::filesystem::path& file) {

@@ -31,6 +31,10 @@ inline constexpr const char* kEstimatesExtensions[] = {".csv", ".txt", ".json"};
 std::vector<double> read_estimates(const std::filesystem::path& file,
                                    const std::optional<std::string>& run_id = std::nullopt);
 
+// Estimates given as numbers (the Python module's arrays), checked as a file's are: all finite
+// (the first that is not named) and at least 2. Throws InputError starting with `name`.
+void check_estimates(const std::vector<double>& estimates, const std::string& name);
+
 // A reference value given on the command line: `V`, `V±U`, `V+-U` or `V+/-U`, where U is the
 // standard uncertainty of V (>= 0; 0 when absent). Whitespace around the text and around the
 // separator is allowed. Anything else is an InputError that names the text and the forms.

@@ -96,6 +96,39 @@ void check_same_size(const Image& image, const Image& like, const std::string& w
   }
 }
 
+void check_image_count(std::size_t count, const std::string& option, const std::string& set,
+                       std::size_t min_images) {
+  if (count < min_images) {
+    throw InputError(fmt::format(
+        "command line: {} '{}': {} image(s); a standard error needs at least {} independent "
+        "replicates (one seed each)",
+        option, set, count, min_images));
+  }
+}
+
+// Adds one image of a set after the set's checks: the size of the first, no pixels seen before.
+void add_image(ImageSet& out, std::map<std::uint64_t, std::size_t>& seen, Image image,
+               ImageFileFacts facts, const std::string& option) {
+  const std::string& path = facts.path;
+  if (!out.images.empty() &&
+      (image.width != out.images.front().width || image.height != out.images.front().height)) {
+    throw InputError(fmt::format("command line: {}: {} is {}x{} but {} is {}x{}", option, path,
+                                 image.width, image.height, out.files.front().path,
+                                 out.images.front().width, out.images.front().height));
+  }
+  const auto [it, inserted] = seen.emplace(content_hash(image), out.images.size());
+  if (!inserted) {
+    throw InputError(
+        fmt::format("command line: {}: {} and {} hold the same pixels: the same replicate twice (a "
+                    "reused seed or a copied file), which would understate the standard error",
+                    option, out.files[it->second].path, path));
+  }
+  out.quantisation_bias =
+      std::max(out.quantisation_bias, worst_quantisation_bias(facts.pixel_type));
+  out.images.push_back(std::move(image));
+  out.files.push_back(std::move(facts));
+}
+
 // --reference-image and its --reference-stderr into `input`.
 void read_reference(const ImageSetRequest& request, ImageSetInput& input) {
   const Image& like = input.set.images.front();
@@ -204,54 +237,54 @@ Image read_image_file(const std::string& path, const ImageReadOptions& options,
     for (std::uint32_t x = 0; x < crop.width; ++x) {
       const std::size_t pixel = std::size_t{crop.y + y} * width + (crop.x + x);
       for (std::uint32_t c = 0; c < kImageChannels; ++c) {
-        const double v = pixels[pixel * channel_count + static_cast<std::size_t>(channels[c])];
-        image.at(x, y, c) = v;
+        image.at(x, y, c) = pixels[pixel * channel_count + static_cast<std::size_t>(channels[c])];
+      }
+    }
+  }
+  count_values(image, found);
+  if (facts != nullptr) *facts = std::move(found);
+  return image;
+}
+
+void count_values(const Image& image, ImageFileFacts& facts) {
+  for (std::uint32_t y = 0; y < image.height; ++y) {
+    for (std::uint32_t x = 0; x < image.width; ++x) {
+      for (std::uint32_t c = 0; c < kImageChannels; ++c) {
+        const double v = image.at(x, y, c);
         if (!std::isfinite(v)) {
-          if (found.nonfinite++ == 0) {
-            found.first_nonfinite_x = x;
-            found.first_nonfinite_y = y;
+          if (facts.nonfinite++ == 0) {
+            facts.first_nonfinite_x = x;
+            facts.first_nonfinite_y = y;
           }
         } else if (v < 0.0) {
-          ++found.negative;
+          ++facts.negative;
         }
       }
     }
   }
-  if (facts != nullptr) *facts = std::move(found);
-  return image;
 }
 
 ImageSet read_image_set(const std::string& set, const std::string& option,
                         const ImageReadOptions& options, std::size_t min_images) {
   const std::vector<std::string> paths = image_set_files(set, option);
-  if (paths.size() < min_images) {
-    throw InputError(fmt::format(
-        "command line: {} '{}': {} image(s); a standard error needs at least {} independent "
-        "replicates (one seed each)",
-        option, set, paths.size(), min_images));
-  }
+  check_image_count(paths.size(), option, set, min_images);
   ImageSet out;
   std::map<std::uint64_t, std::size_t> seen;  // content hash -> file index
   for (const std::string& path : paths) {
     ImageFileFacts facts;
     Image image = read_image_file(path, options, &facts);
-    if (!out.images.empty() &&
-        (image.width != out.images.front().width || image.height != out.images.front().height)) {
-      throw InputError(fmt::format("command line: {}: {} is {}x{} but {} is {}x{}", option, path,
-                                   image.width, image.height, out.files.front().path,
-                                   out.images.front().width, out.images.front().height));
-    }
-    const auto [it, inserted] = seen.emplace(content_hash(image), out.images.size());
-    if (!inserted) {
-      throw InputError(fmt::format(
-          "command line: {}: {} and {} hold the same pixels: the same replicate twice (a "
-          "reused seed or a copied file), which would understate the standard error",
-          option, out.files[it->second].path, path));
-    }
-    out.quantisation_bias =
-        std::max(out.quantisation_bias, worst_quantisation_bias(facts.pixel_type));
-    out.images.push_back(std::move(image));
-    out.files.push_back(std::move(facts));
+    add_image(out, seen, std::move(image), std::move(facts), option);
+  }
+  return out;
+}
+
+ImageSet image_set_of(std::vector<Image> images, std::vector<ImageFileFacts> facts,
+                      const std::string& option, const std::string& set, std::size_t min_images) {
+  check_image_count(images.size(), option, set, min_images);
+  ImageSet out;
+  std::map<std::uint64_t, std::size_t> seen;
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    add_image(out, seen, std::move(images[i]), std::move(facts[i]), option);
   }
   return out;
 }
@@ -270,15 +303,33 @@ CropWindow parse_crop(const std::string& text) {
           static_cast<std::uint32_t>(v[2]), static_cast<std::uint32_t>(v[3])};
 }
 
-ImageSetInput read_image_set_input(const ImageSetRequest& request) {
+ImageSetInput read_image_set_input(const ImageSetRequest& request, ImagesInMemory loaded) {
   ImageSetInput input;
-  input.set = read_image_set(request.images, "--images", request.read);
+  input.set = loaded.set ? std::move(*loaded.set)
+                         : read_image_set(request.images, "--images", request.read);
   input.quantisation = input.set.quantisation_bias;
   const Image& like = input.set.images.front();
   if (request.against) {
-    input.other = read_image_set(*request.against, "--against", request.read);
+    input.other = loaded.other ? std::move(*loaded.other)
+                               : read_image_set(*request.against, "--against", request.read);
     check_same_size(input.other->images.front(), like, "the --against set");
+    if (request.paired && input.other->images.size() != input.set.images.size()) {
+      throw InputError(fmt::format(
+          "command line: --paired: {} images against {}; paired sets are replicate pairs "
+          "(replicate k of both from the same seed)",
+          input.set.images.size(), input.other->images.size()));
+    }
     input.quantisation = std::max(input.quantisation, input.other->quantisation_bias);
+  } else if (loaded.reference) {
+    check_same_size(*loaded.reference, like, *request.reference_image);
+    input.reference = std::move(loaded.reference);
+    input.reference_pixel_type = loaded.reference_pixel_type;
+    input.quantisation =
+        std::max(input.quantisation, worst_quantisation_bias(input.reference_pixel_type));
+    if (loaded.reference_stderr) {
+      check_same_size(*loaded.reference_stderr, like, *request.reference_stderr);
+      input.reference_stderr = std::move(loaded.reference_stderr);
+    }
   } else if (request.reference_image) {
     read_reference(request, input);
   } else {

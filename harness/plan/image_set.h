@@ -70,6 +70,16 @@ Image read_image_file(const std::string& path, const ImageReadOptions& options,
 ImageSet read_image_set(const std::string& set, const std::string& option,
                         const ImageReadOptions& options, std::size_t min_images = 2);
 
+// The facts of an image's values into `facts`: its non-finite values (the first located, x and y
+// in the image) and its negative values.
+void count_values(const Image& image, ImageFileFacts& facts);
+
+// A set of images already in memory (the Python module's arrays), one ImageFileFacts each (its
+// path names the image), checked as read_image_set checks files; `set` names it in messages.
+ImageSet image_set_of(std::vector<Image> images, std::vector<ImageFileFacts> facts,
+                      const std::string& option, const std::string& set,
+                      std::size_t min_images = 2);
+
 // `verify --images` as asked.
 struct ImageSetRequest {
   std::string images;                                // --images SET
@@ -80,6 +90,9 @@ struct ImageSetRequest {
   ImageReadOptions read = {};                        // --channels, --crop
   std::uint32_t tile = 8;                            // --tile
   std::string expect = "consistent";                 // --expect
+  // --paired (with --against): replicate k of both sets comes from the same random streams, so
+  // each block is tested on the replicate differences (harness/verify/block_pyramid.h).
+  bool paired = false;
 };
 
 // Parses --crop X,Y,W,H. Throws InputError.
@@ -96,9 +109,17 @@ struct ImageSetInput {
   double quantisation = 0.0;  // the worst-case quantisation bias of the files' pixel formats
 };
 
+// Sides of a request that are already in memory (the Python module's arrays); the request's
+// names for them label them in messages and the report.
+struct ImagesInMemory {
+  std::optional<ImageSet> set = {}, other = {};
+  std::optional<Image> reference = {}, reference_stderr = {};
+  std::string reference_pixel_type = "float";
+};
+
 // Reads `request`'s set and the one thing it is tested against (--against, --reference-image
-// or --constant; the request says exactly one), all of one size. Throws InputError naming the
-// file or option.
-ImageSetInput read_image_set_input(const ImageSetRequest& request);
+// or --constant; the request says exactly one), all of one size; what `loaded` holds is taken
+// instead of read. Throws InputError naming the file or option.
+ImageSetInput read_image_set_input(const ImageSetRequest& request, ImagesInMemory loaded = {});
 
 }  // namespace pcbench
