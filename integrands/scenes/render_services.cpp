@@ -159,6 +159,35 @@ void RenderServices::splat(const LightPool& pool, Image& sum, TraceCounters& cou
   }
 }
 
+namespace {
+
+// For every pixel of row y in order, each prefix y_0 .. y_{t-1}, t = 2, 3, … of its walked
+// camera subpath (`on_prefix`), with the pixel's camera stream and a fresh resampling stream;
+// then `after_pixel(pixel)`.
+template <typename OnPrefix, typename AfterPixel>
+void for_each_prefix(const RenderServices& services, std::uint32_t index, std::uint32_t y,
+                     std::span<const Subpath> paths, std::span<RandomStream> streams,
+                     TraceCounters& counters, OnPrefix&& on_prefix, AfterPixel&& after_pixel) {
+  const std::uint32_t width = services.width(), max_length = services.max_length();
+  for (std::uint32_t x = 0; x < width; ++x) {
+    const std::uint32_t pixel = y * width + x;
+    const Subpath& camera = paths[x];
+    RandomStream draws(services.stream(StreamPurpose::kResampling, index, pixel));
+    for (std::uint32_t t = 2; t <= camera.size(); ++t) {
+      CameraPrefix prefix{.pixel = pixel,
+                          .vertices = std::span<const PathVertex>(camera).first(t),
+                          .max_s = t <= max_length ? max_length + 1 - t : 0,
+                          .camera = streams[x],
+                          .draws = draws,
+                          .counters = counters};
+      on_prefix(prefix);
+    }
+    after_pixel(pixel);
+  }
+}
+
+}  // namespace
+
 void RenderServices::walk_camera_row(std::uint32_t index, std::uint32_t y, CameraRow& row,
                                      TraceCounters& counters) const {
   row.paths.resize(width_);
@@ -181,22 +210,14 @@ void RenderServices::camera_pass(std::uint32_t index, Image& sum, TraceCounters&
   tbb::parallel_for(std::uint32_t{0}, height_, [&](std::uint32_t y) {
     CameraRow& row = scratch_->rows.local();
     walk_camera_row(index, y, row, row_counters[y]);
-    for (std::uint32_t x = 0; x < width_; ++x) {
-      const std::uint32_t pixel = y * width_ + x;
-      const Subpath& camera = row.paths[x];
-      RandomStream draws(stream(StreamPurpose::kResampling, index, pixel));
-      Rgb value;
-      for (std::uint32_t t = 2; t <= camera.size(); ++t) {
-        CameraPrefix prefix{.pixel = pixel,
-                            .vertices = std::span<const PathVertex>(camera).first(t),
-                            .max_s = t <= max_length_ ? max_length_ + 1 - t : 0,
-                            .camera = row.streams[x],
-                            .draws = draws,
-                            .counters = row_counters[y]};
-        each(prefix, value);
-      }
-      add(sum, pixel, value);
-    }
+    Rgb value;
+    for_each_prefix(
+        *this, index, y, row.paths, row.streams, row_counters[y],
+        [&](CameraPrefix& prefix) { each(prefix, value); },
+        [&](std::uint32_t pixel) {
+          add(sum, pixel, value);
+          value = {};
+        });
   });
   for (const TraceCounters& c : row_counters) counters.add(c);
 }
@@ -209,22 +230,14 @@ void RenderServices::camera_pass_queued(std::uint32_t index, Image& sum, TraceCo
     walk_camera_row(index, y, row, row_counters[y]);
     ConnectionQueue& queue = row.queue;
     queue.clear();
-    for (std::uint32_t x = 0; x < width_; ++x) {
-      const std::uint32_t pixel = y * width_ + x;
-      const Subpath& camera = row.paths[x];
-      RandomStream draws(stream(StreamPurpose::kResampling, index, pixel));
-      for (std::uint32_t t = 2; t <= camera.size(); ++t) {
-        CameraPrefix prefix{.pixel = pixel,
-                            .vertices = std::span<const PathVertex>(camera).first(t),
-                            .max_s = t <= max_length_ ? max_length_ + 1 - t : 0,
-                            .camera = row.streams[x],
-                            .draws = draws,
-                            .counters = row_counters[y]};
-        const Rgb hit = emitter_hits ? connect_recorded({}, prefix) : Rgb{};
-        queue.begin_prefix(prefix, emitter_hits, hit);
-        if (prefix.max_s > 0) each(prefix, queue);
-      }
-    }
+    for_each_prefix(
+        *this, index, y, row.paths, row.streams, row_counters[y],
+        [&](CameraPrefix& prefix) {
+          const Rgb hit = emitter_hits ? connect_recorded({}, prefix) : Rgb{};
+          queue.begin_prefix(prefix, emitter_hits, hit);
+          if (prefix.max_s > 0) each(prefix, queue);
+        },
+        [](std::uint32_t) {});
     queue.resolve(scene_, counts_, row_counters[y]);
     // Each pixel's prefixes are consecutive, in order of t.
     Rgb value;
