@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <set>
@@ -135,6 +136,49 @@ Against against_of(const ImageSetRequest& request, const ImageSetInput& input) {
           "exact"};
 }
 
+// An image's mean over its pixels and channels.
+double whole_image_mean(const Image& image) {
+  double sum = 0.0;
+  for (const double v : image.values) sum += v;
+  return sum / static_cast<double>(image.values.size());
+}
+
+std::vector<double> whole_image_means(const std::vector<Image>& images) {
+  std::vector<double> means;
+  for (const Image& image : images) means.push_back(whole_image_mean(image));
+  return means;
+}
+
+// The comparison's whole-image figures (mean_a, mean_b, their standard errors, statistic, dof,
+// replicate counts): the image's mean over pixels and channels, per replicate, tested as one
+// value against the other side's (Welch), the reference's (its pixels' standard errors taken as
+// independent) or the exact constant's.
+void whole_image_figures(const ImageSetInput& input, Comparison& c) {
+  const std::vector<double> a = whole_image_means(input.set.images);
+  TwoSampleTest test;
+  if (input.other) {
+    const std::vector<double> b = whole_image_means(input.other->images);
+    test = welch_two_sample(a, b);
+    c.replicates_b = b.size();
+  } else {
+    const Image& reference = *input.reference;
+    const double n = static_cast<double>(reference.values.size());
+    double variance_b = 0.0;
+    if (input.reference_stderr) {
+      for (const double se : input.reference_stderr->values) variance_b += se * se;
+      variance_b /= n * n;
+    }
+    const double n_a = static_cast<double>(a.size());
+    double mean = 0.0, squares = 0.0;
+    for (const double v : a) mean += v / n_a;
+    for (const double v : a) squares += (v - mean) * (v - mean);
+    test = welch_test(mean, squares / (n_a - 1.0) / n_a, n_a - 1.0, whole_image_mean(reference),
+                      variance_b, std::numeric_limits<double>::infinity());
+    c.replicates_b = 0;
+  }
+  set_test_figures(c, test);
+}
+
 // The family: the comparison and its self-checks, one per scale, decided together.
 struct TestedFamily {
   PyramidResult result;
@@ -183,6 +227,7 @@ TestedFamily test_family(const ImageSetInput& input, const Against& against,
   for (std::size_t i = 0; i < tested.comparisons.size(); ++i) {
     finish_comparison(tested.comparisons[i], verdicts[i]);
   }
+  whole_image_figures(input, tested.comparisons.front());
   return tested;
 }
 
@@ -287,6 +332,29 @@ Json image_sets_json(const ImageSetRequest& request, const ImageSetInput& input,
       {"image_files", files}};
 }
 
+// One printed line per comparison. A self-check's says so, in words of its own: under a
+// consistent verdict its "biased" is the verifier working, not a finding.
+std::string verdict_line(const Comparison& c) {
+  if (c.a.ends_with("+injected")) {
+    const std::string planted = c.estimator.substr(c.estimator.find(" ("));
+    return c.result == c.expect
+               ? fmt::format("self-check{}: flagged, as expected ({})\n", planted, c.reason)
+               : fmt::format(
+                     "self-check{}: NOT flagged (expected flagged): the test cannot see "
+                     "twice its own stated detectable bias ({})\n",
+                     planted, c.reason);
+  }
+  return fmt::format("{}: {}{} ({})\n", c.estimator, c.result,
+                     c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect), c.reason);
+}
+
+// Every scale with a requirement meets it (a NaN detectable bias does not).
+bool requirements_met(const Comparison& c) {
+  return std::all_of(c.scales.begin(), c.scales.end(), [](const Comparison::Scale& s) {
+    return !s.required_mdb || s.relative_mdb <= *s.required_mdb;
+  });
+}
+
 }  // namespace
 
 int run_image_set_verification(const ImageSetRequest& request, const SessionOptions& options,
@@ -308,17 +376,21 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
   ReportSections sections;
   sections.comparisons = comparisons_json(tested.comparisons);
   sections.image_sets = image_sets_json(request, input, against, maps.pixels, *files);
-  for (const Comparison& c : tested.comparisons) {
-    out << fmt::format("{}: {}{} ({})\n", c.estimator, c.result,
-                       c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect),
-                       c.reason);
-  }
+  for (const Comparison& c : tested.comparisons) out << verdict_line(c);
   if (!publish_report(options, folder, session_context(options), {}, sections, out, err)) {
     return kExitRunFailed;
   }
   const bool as_expected = std::all_of(tested.comparisons.begin(), tested.comparisons.end(),
                                        [](const Comparison& c) { return c.result == c.expect; });
-  return as_expected ? kExitOk : kExitVerdictDiffers;
+  if (!as_expected) return kExitVerdictDiffers;
+  const Comparison& comparison = tested.comparisons.front();
+  if (request.fail_underpowered && comparison.expect == "consistent" &&
+      !requirements_met(comparison)) {
+    out << "power requirement not met (--fail-underpowered): exit 4; render more samples per "
+           "pixel, as the line above says\n";
+    return kExitUnderpowered;
+  }
+  return kExitOk;
 }
 
 }  // namespace pcbench

@@ -57,7 +57,9 @@ struct ImageSet {
 
 // The files of SET: a folder (its .exr, .hdr and .pfm files, sorted by name), a glob pattern
 // (sorted matches), or a comma-separated list. Throws InputError naming `option` when nothing
-// matches.
+// matches, and for a folder that holds more than one set's replicates: pcbench's statistics
+// images (`<id>_mean.exr`, `_stderr`, `_zmap`, `_reference`, `_strategies`, `images_*.exr`,
+// `reference_*.exr`, named) or the replicates `<id>_rep<k>` of several runs.
 std::vector<std::string> image_set_files(const std::string& set, const std::string& option);
 
 // One image: the chosen channels, cropped. Throws InputError (file, what is wrong, the valid
@@ -80,6 +82,8 @@ struct ImageSetRequest {
   ImageReadOptions read = {};                        // --channels, --crop
   std::uint32_t tile = 8;                            // --tile
   std::string expect = "consistent";                 // --expect
+  // --fail-underpowered: a consistent verdict whose scales miss a power requirement exits 4.
+  bool fail_underpowered = false;
 };
 
 // Parses --crop X,Y,W,H. Throws InputError.
@@ -98,7 +102,8 @@ struct ImageSetInput {
 
 // Reads `request`'s set and the one thing it is tested against (--against, --reference-image
 // or --constant; the request says exactly one), all of one size. Throws InputError naming the
-// file or option.
+// file or option, and when an image of --against has the pixels of one of --images (the same
+// files, or copies, on both sides).
 ImageSetInput read_image_set_input(const ImageSetRequest& request);
 
 }  // namespace pcbench
