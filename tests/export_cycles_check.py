@@ -10,7 +10,8 @@ packages), in a scratch folder holding build/release/pcbench:
      render 8 Cycles replicates of 64 spp with blender -b, pcbench's own `pt` replicates, and
      `verify --images` Cycles against them: each exits 0, the exported README gives the same
      lines, Cycles is consistent at every scale, and the whole image's detectable bias is printed
-     (and below 1%, so that step 3 means something);
+     (and below 1%, so that step 3 means something); render.py into the filled folder again is
+     refused (exit 2), the set left as it was;
   2. the furnace exported at 64x64 and its README's commands run as written: Cycles' replicates
      consistent with the exact image (`--constant`);
   3. Cycles' cornell set made 1% darker (OpenImageIO and numpy): flagged (`--expect biased`
@@ -119,6 +120,11 @@ def cornell(source, scratch):
           "\n".join(written))
     cycles_set = os.path.join(folder, "cycles", "*.exr")
     check(len(glob.glob(cycles_set)) == REPLICATES, f"{REPLICATES} Cycles replicates (EXR)")
+    again = run(guide[1].replace("--replicates 8", "--replicates 2"), scratch,
+                "render.py into the filled folder again")
+    check(again.returncode == 2 and "not an empty folder" in again.stderr
+          and len(glob.glob(cycles_set)) == REPLICATES,
+          "render.py refuses a folder that holds an earlier render (exit 2)", again.stderr[-500:])
     comparison = report(os.path.join(folder, "verify"))["comparisons"][0]
     check(comparison["result"] == "consistent", "cornell: Cycles consistent with pcbench's pt at "
           "every scale", comparison["reason"])

@@ -66,7 +66,8 @@ const char* cycles_scene_functions();
 
 // render.py: `blender -b -P render.py -- --replicates R --spp N --out FOLDER [--threads T]
 // [--first-seed S]` builds scene.py (beside it) and writes FOLDER/cycles_rep<k>.exr, k = 000 ...
-// R - 1, with seeds S + k (S = 1 by default); exit 2 on bad arguments, 1 on a failed render.
+// R - 1, with seeds S + k (S = 1 by default); exit 2 on bad arguments (FOLDER exists and is not
+// empty: an earlier render's files would join the set), 1 on a failed render.
 std::string cycles_render_script();
 
 }  // namespace pcbench::scene

@@ -175,8 +175,8 @@ std::string cycles_render_script() {
 
 blender -b -P render.py -- --replicates R --spp N --out FOLDER [--threads T] [--first-seed S]
 writes FOLDER/cycles_rep000.exr ... one 32-bit float EXR per replicate, replicate k with seed
-S + k: independent renders, as pcbench verify --images needs. Exit 2 on bad arguments, 1 when a
-render fails.
+S + k: independent renders, as pcbench verify --images needs. Exit 2 on bad arguments (FOLDER
+must be new or empty), 1 when a render fails.
 """
 import argparse
 import os
@@ -199,6 +199,9 @@ def arguments():
     args = parser.parse_args(argv)
     if args.replicates < 2 or args.spp < 1 or args.threads < 0 or args.first_seed < 0:
         parser.error("--replicates >= 2, --spp >= 1, --threads >= 0, --first-seed >= 0")
+    # Files of an earlier render would join this one's set: the folder is new or empty.
+    if os.path.exists(args.out) and (not os.path.isdir(args.out) or os.listdir(args.out)):
+        parser.error(f"--out {args.out} exists and is not an empty folder")
     return args
 
 
