@@ -6,7 +6,8 @@
 #   run  what building pcbench and its Python module and drawing its page need (the README's
 #        first command, scripts/run-default.sh)
 #   all  (the default) also the tests, benchmarks, format check, the clang sanitizer and fuzz
-#        build, Open MPI and the browser of the page test (scripts/test.sh)
+#        build, Open MPI, the browser of the page test and Blender (Cycles, which the test
+#        export.cycles renders pcbench's exported scenes with) (scripts/test.sh)
 set -euo pipefail
 
 profile=${1:-all}
@@ -25,6 +26,7 @@ test_packages=(
   chromium
   clang libclang-rt-14-dev
   libopenmpi-dev openmpi-bin
+  blender
 )
 case "$profile" in
   run) packages=("${run_packages[@]}") ;;

@@ -199,6 +199,132 @@ TEST_F(ImageSetVerify, BadInputExitsTwoAndWritesNothing) {
   }
 }
 
+// A folder given as a set holds replicates only: pcbench's own statistics images beside them
+// (its images/ folder) or the replicates of two runs are refused, naming the files.
+TEST_F(ImageSetVerify, AFolderHoldsReplicatesOnly) {
+  const std::string set = write_set("folder", "exr", OIIO::TypeDesc::FLOAT);
+  write(fs::path(set) / "run1_mean.exr", render(0, 0.0), OIIO::TypeDesc::FLOAT);
+  write(fs::path(set) / "run1_stderr.exr", render(1, 0.0), OIIO::TypeDesc::FLOAT);
+  const CliResult mixed = cli({"verify", "--images", set, "--constant", "0.5,0.8,1.1", "-q",
+                               "--out", at("mixed").string()});
+  EXPECT_EQ(mixed.status, 2) << mixed.out;
+  EXPECT_NE(mixed.err.find("run1_mean.exr, run1_stderr.exr"), std::string::npos) << mixed.err;
+  EXPECT_NE(mixed.err.find("not replicates"), std::string::npos) << mixed.err;
+  EXPECT_FALSE(fs::exists(at("mixed")));
+
+  const fs::path runs = at("two-runs");
+  fs::create_directories(runs);
+  for (std::uint32_t r = 0; r < 2; ++r) {
+    write(runs / fmt::format("aaa_rep{}.exr", r), render(r, 0.2), OIIO::TypeDesc::FLOAT);
+    write(runs / fmt::format("bbb_rep{}.exr", r), render(r + 2, 0.2), OIIO::TypeDesc::FLOAT);
+  }
+  const CliResult two = cli({"verify", "--images", runs.string(), "--constant", "0.5,0.8,1.1", "-q",
+                             "--out", at("two").string()});
+  EXPECT_EQ(two.status, 2);
+  EXPECT_NE(two.err.find("the replicates of 2 runs (aaa, bbb)"), std::string::npos) << two.err;
+}
+
+// The same files, or copies of them, on both sides: bad input, not a tight "consistent".
+TEST_F(ImageSetVerify, ASetAgainstItselfIsRefused) {
+  const std::string set = write_set("self", "exr", OIIO::TypeDesc::FLOAT);
+  const CliResult same =
+      cli({"verify", "--images", set, "--against", set, "-q", "--out", at("same").string()});
+  EXPECT_EQ(same.status, 2) << same.out;
+  EXPECT_NE(same.err.find("hold the same image"), std::string::npos) << same.err;
+  // One copied file among independent ones is enough.
+  const std::string other = write_set("self-other", "exr", OIIO::TypeDesc::FLOAT, 1.0, 8);
+  fs::copy_file(fs::path(set) / "r3.exr", fs::path(other) / "r3.exr",
+                fs::copy_options::overwrite_existing);
+  const CliResult copy =
+      cli({"verify", "--images", set, "--against", other, "-q", "--out", at("copy").string()});
+  EXPECT_EQ(copy.status, 2);
+  EXPECT_NE(copy.err.find("r3.exr"), std::string::npos) << copy.err;
+  EXPECT_FALSE(fs::exists(at("same")));
+  EXPECT_FALSE(fs::exists(at("copy")));
+}
+
+// The report's whole-image figures are the sets' own: means over pixels and channels, their
+// standard errors across replicates, both counts, the whole-image t and its dof.
+TEST_F(ImageSetVerify, WholeImageFiguresOfBothSides) {
+  const std::string set = write_set("figures", "exr", OIIO::TypeDesc::FLOAT);
+  const std::string other = write_set("figures-other", "exr", OIIO::TypeDesc::FLOAT, 1.0, 8);
+  ASSERT_EQ(cli({"verify", "--images", set, "--against", other, "-q", "--out", at("pair").string()})
+                .status,
+            0);
+  const nlohmann::json pair = report_at(at("pair"))["comparisons"][0];
+  // Radiance 0.8 on average, uniform noise of ±0.2 (sd 0.2/√3 per value) over 3072 values: the
+  // whole-image mean's standard error is about 0.0021 per replicate / √8 = 0.00074.
+  EXPECT_NEAR(pair["mean_a"].get<double>(), 0.8, 0.005);
+  EXPECT_NEAR(pair["mean_b"].get<double>(), 0.8, 0.005);
+  EXPECT_GT(pair["stderr_a"].get<double>(), 0.0003);
+  EXPECT_LT(pair["stderr_a"].get<double>(), 0.0015);
+  EXPECT_GT(pair["stderr_b"].get<double>(), 0.0003);
+  EXPECT_EQ(pair["replicates_a"], kReplicates);
+  EXPECT_EQ(pair["replicates_b"], kReplicates);
+  EXPECT_GT(pair["dof"].get<double>(), kReplicates - 1.0);
+  EXPECT_DOUBLE_EQ(pair["statistic"].get<double>(),
+                   (pair["mean_a"].get<double>() - pair["mean_b"].get<double>()) /
+                       std::hypot(pair["stderr_a"].get<double>(), pair["stderr_b"].get<double>()));
+  ASSERT_EQ(cli({"verify", "--images", set, "--constant", "0.5,0.8,1.1", "-q", "--out",
+                 at("exact").string()})
+                .status,
+            0);
+  const nlohmann::json exact = report_at(at("exact"))["comparisons"][0];
+  EXPECT_NEAR(exact["mean_b"].get<double>(), (0.5 + 0.8 + 1.1) / 3.0, 1e-12);  // summed pixels
+  EXPECT_EQ(exact["stderr_b"].get<double>(), 0.0);
+  EXPECT_EQ(exact["replicates_b"], 0);
+  EXPECT_EQ(exact["dof"].get<double>(), kReplicates - 1.0);
+}
+
+// An unmet power requirement says "not met" with the factor, the median beside the worst block,
+// self-checks in words of their own; --fail-underpowered turns an unmet requirement into exit 4.
+TEST_F(ImageSetVerify, PowerRequirementsInPlainWords) {
+  const std::string set = write_set("power", "exr", OIIO::TypeDesc::FLOAT);
+  // 0.01% over the image is far below what 8 replicates of this noise detect.
+  const std::vector<std::string> command = {"verify",       "--images",    set,
+                                            "--constant",   "0.5,0.8,1.1", "--require-mdb",
+                                            "image=0.0001", "--out",       ""};
+  auto with_out = [&](const std::string& out, bool fail) {
+    std::vector<std::string> c = command;
+    c.back() = at(out).string();
+    if (fail) c.push_back("--fail-underpowered");
+    return cli(c);
+  };
+  const CliResult loose = with_out("loose", false);
+  EXPECT_EQ(loose.status, 0) << loose.out << loose.err;
+  EXPECT_NE(loose.out.find("required ≤ 0.01%: not met; needs"), std::string::npos) << loose.out;
+  EXPECT_EQ(loose.out.find("met at about"), std::string::npos) << loose.out;
+  const nlohmann::json report = report_at(at("loose"));
+  const auto& c = report["comparisons"];
+  EXPECT_FALSE(c[0]["requirements_met"].get<bool>());
+  // The median beside the worst, per scale.
+  EXPECT_NE(loose.out.find("(worst bright block; median "), std::string::npos) << loose.out;
+  for (const auto& scale : c[0]["scales"]) {
+    EXPECT_GT(scale["median_relative_mdb"].get<double>(), 0.0);
+    EXPECT_LE(scale["median_relative_mdb"].get<double>(), scale["relative_mdb"].get<double>());
+  }
+  // One line per self-check, each saying it is one and that it behaved as expected; no line
+  // reads as a finding.
+  std::size_t self_checks = 0;
+  for (std::size_t at_line = 0;
+       (at_line = loose.out.find("self-check (block", at_line)) != std::string::npos; ++at_line) {
+    ++self_checks;
+  }
+  EXPECT_EQ(self_checks, c.size() - 1);
+  EXPECT_EQ(loose.out.find("): biased"), std::string::npos) << loose.out;
+  EXPECT_NE(loose.out.find(": flagged, as expected ("), std::string::npos) << loose.out;
+
+  const CliResult strict = with_out("strict", true);
+  EXPECT_EQ(strict.status, 4) << strict.out;
+  EXPECT_NE(strict.out.find("--fail-underpowered"), std::string::npos) << strict.out;
+  // Requirements that are met pass under --fail-underpowered.
+  const CliResult met =
+      cli({"verify", "--images", set, "--constant", "0.5,0.8,1.1", "--require-mdb", "tile=0.9",
+           "--require-mdb", "image=0.5", "--fail-underpowered", "-q", "--out", at("met").string()});
+  EXPECT_TRUE(report_at(at("met"))["comparisons"][0]["requirements_met"].get<bool>()) << met.out;
+  EXPECT_EQ(met.status, 0) << met.out;
+}
+
 // `--images renders/*.exr` unquoted: the shell hands pcbench every file as its own word, which
 // is the same set as the quoted pattern; several words after --against are a set too.
 TEST_F(ImageSetVerify, SeveralFilesAsTheShellExpandsAGlob) {

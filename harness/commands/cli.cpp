@@ -18,6 +18,7 @@
 #include "harness/commands/calibrate_command.h"
 #include "harness/commands/command_options.h"
 #include "harness/commands/compare_command.h"
+#include "harness/commands/export_command.h"
 #include "harness/commands/list_command.h"
 #include "harness/commands/merge_command.h"
 #include "harness/commands/plot_command.h"
@@ -79,6 +80,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   ReferenceArguments reference;
   MergeArguments merge;
   PlotArguments plot;
+  ExportArguments export_args;
   const std::vector<Command> commands = {
       command(add_list_command(app, list), list, list_command),
       command(add_run_command(app, run), run, run_command),
@@ -89,6 +91,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       command(add_reference_command(app, reference), reference, reference_command),
       command(add_merge_command(app, merge), merge, merge_command),
       command(add_plot_command(app, plot), plot, plot_command),
+      command(add_export_command(app, export_args), export_args, export_command),
   };
 
   if (const std::string error = subcommand_error(app, args); !error.empty()) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <set>
@@ -141,6 +142,49 @@ Against against_of(const ImageSetRequest& request, const ImageSetInput& input) {
           "exact"};
 }
 
+// An image's mean over its pixels and channels.
+double whole_image_mean(const Image& image) {
+  double sum = 0.0;
+  for (const double v : image.values) sum += v;
+  return sum / static_cast<double>(image.values.size());
+}
+
+std::vector<double> whole_image_means(const std::vector<Image>& images) {
+  std::vector<double> means;
+  for (const Image& image : images) means.push_back(whole_image_mean(image));
+  return means;
+}
+
+// The comparison's whole-image figures (mean_a, mean_b, their standard errors, statistic, dof,
+// replicate counts): the image's mean over pixels and channels, per replicate, tested as one
+// value against the other side's (Welch), the reference's (its pixels' standard errors taken as
+// independent) or the exact constant's.
+void whole_image_figures(const ImageSetInput& input, Comparison& c) {
+  const std::vector<double> a = whole_image_means(input.set.images);
+  TwoSampleTest test;
+  if (input.other) {
+    const std::vector<double> b = whole_image_means(input.other->images);
+    test = welch_two_sample(a, b);
+    c.replicates_b = b.size();
+  } else {
+    const Image& reference = *input.reference;
+    const double n = static_cast<double>(reference.values.size());
+    double variance_b = 0.0;
+    if (input.reference_stderr) {
+      for (const double se : input.reference_stderr->values) variance_b += se * se;
+      variance_b /= n * n;
+    }
+    const double n_a = static_cast<double>(a.size());
+    double mean = 0.0, squares = 0.0;
+    for (const double v : a) mean += v / n_a;
+    for (const double v : a) squares += (v - mean) * (v - mean);
+    test = welch_test(mean, squares / (n_a - 1.0) / n_a, n_a - 1.0, whole_image_mean(reference),
+                      variance_b, std::numeric_limits<double>::infinity());
+    c.replicates_b = 0;
+  }
+  set_test_figures(c, test);
+}
+
 // The family: the comparison and its self-checks, one per scale, decided together.
 struct TestedFamily {
   PyramidResult result;
@@ -190,6 +234,7 @@ TestedFamily test_family(const ImageSetInput& input, const Against& against,
   for (std::size_t i = 0; i < tested.comparisons.size(); ++i) {
     finish_comparison(tested.comparisons[i], verdicts[i]);
   }
+  whole_image_figures(input, tested.comparisons.front());
   return tested;
 }
 
@@ -295,6 +340,32 @@ Json image_sets_json(const ImageSetRequest& request, const ImageSetInput& input,
       {"image_files", files}};
 }
 
+// One printed line per comparison. A self-check's says so, in words of its own: under a
+// consistent verdict its "biased" is the verifier working, not a finding.
+std::string verdict_line(const Comparison& c) {
+  if (c.a.ends_with("+injected")) {
+    const std::string planted = c.estimator.substr(c.estimator.find(" ("));
+    // Its reason's first part names the coarsest scale that differs; the power figures after it
+    // are the comparison's own, printed on its line.
+    return c.result == c.expect
+               ? fmt::format("self-check{}: flagged, as expected ({})\n", planted,
+                             c.reason.substr(0, c.reason.find(';')))
+               : fmt::format(
+                     "self-check{}: NOT flagged (expected flagged): the test cannot see "
+                     "twice its own stated detectable bias ({})\n",
+                     planted, c.reason);
+  }
+  return fmt::format("{}: {}{} ({})\n", c.estimator, c.result,
+                     c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect), c.reason);
+}
+
+// Every scale with a requirement meets it (a NaN detectable bias does not).
+bool requirements_met(const Comparison& c) {
+  return std::all_of(c.scales.begin(), c.scales.end(), [](const Comparison::Scale& s) {
+    return !s.required_mdb || s.relative_mdb <= *s.required_mdb;
+  });
+}
+
 }  // namespace
 
 ImageSetVerification verify_image_set(const ImageSetRequest& request, const ImageSetInput& input,
@@ -325,11 +396,7 @@ int publish_image_set_verification(ImageSetVerification verification, const Sess
   const std::optional<Json> files = write_images(folder, verification, err);
   if (!files) return kExitRunFailed;
   verification.image_sets["image_files"] = *files;
-  for (const Comparison& c : verification.comparisons) {
-    out << fmt::format("{}: {}{} ({})\n", c.estimator, c.result,
-                       c.result == c.expect ? "" : fmt::format(" (expected {})", c.expect),
-                       c.reason);
-  }
+  for (const Comparison& c : verification.comparisons) out << verdict_line(c);
   if (!publish_report(options, folder, session_context(options), {},
                       image_set_sections(verification), out, err)) {
     return kExitRunFailed;
@@ -350,7 +417,17 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
   ImageSetVerification verification = verify_image_set(request, input, options);
   warn_about_values(input.set, err);
   if (input.other) warn_about_values(*input.other, err);
-  return publish_image_set_verification(std::move(verification), options, out, err);
+  const Comparison comparison = verification.comparisons.front();
+  const int status = publish_image_set_verification(std::move(verification), options, out, err);
+  if (status != kExitOk) return status;
+  if (request.fail_underpowered && comparison.expect == "consistent" &&
+      !requirements_met(comparison)) {
+    out << "power requirement not met (--fail-underpowered): exit 4; render more samples per "
+           "pixel, as the line above says
+";
+    return kExitUnderpowered;
+  }
+  return kExitOk;
 }
 
 }  // namespace pcbench

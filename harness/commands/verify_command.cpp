@@ -72,14 +72,15 @@ ImageSetCheck image_set_check(const VerifyArguments& args, const FileLists& file
 // The options of --images, refused without it.
 void check_no_image_options(const VerifyArguments& args) {
   const ImageSetRequest& images = args.images;
-  const bool image_options =
-      images.reference_image || images.reference_stderr || images.constant || !args.crop.empty() ||
-      images.read.channels != ImageReadOptions{}.channels ||
-      images.tile != ImageSetRequest{}.tile || images.expect != ImageSetRequest{}.expect;
+  const bool image_options = images.reference_image || images.reference_stderr || images.constant ||
+                             !args.crop.empty() ||
+                             images.read.channels != ImageReadOptions{}.channels ||
+                             images.tile != ImageSetRequest{}.tile ||
+                             images.expect != ImageSetRequest{}.expect || images.fail_underpowered;
   if (image_options) {
     throw InputError(
         "command line: --reference-image, --reference-stderr, --constant, --channels, --crop, "
-        "--tile and --expect go with --images SET");
+        "--tile, --expect and --fail-underpowered go with --images SET");
   }
 }
 
@@ -156,6 +157,9 @@ void add_image_options(CLI::App* verify, VerifyArguments& args) {
   verify->add_option("--tile", args.images.tile, "with --images: tile edge in pixels (default 8)");
   verify->add_option("--expect", args.images.expect,
                      "with --images: consistent (default) or biased (a set with a known bias)");
+  verify->add_flag("--fail-underpowered", args.images.fail_underpowered,
+                   "with --images: exit 4 when the verdict is consistent but some scale misses "
+                   "its power requirement (--require-mdb)");
 }
 
 }  // namespace

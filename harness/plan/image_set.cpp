@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string_view>
 
 #include "base/comma_list.h"
@@ -34,6 +35,52 @@ std::string lower(std::string text) {
 bool image_extension(const fs::path& path) {
   const std::string ext = lower(path.extension().string());
   return ext == ".exr" || ext == ".hdr" || ext == ".pfm";
+}
+
+// pcbench's own statistics images, which sit beside its replicates (`<id>_rep<k>.exr`) in a
+// report's images/ folder: `<id>_{mean,stderr,zmap,reference,strategies}.exr`,
+// `images_{mean,stderr,zmap}.exr` and `reference_<key>.exr`. None is a replicate.
+bool statistics_image(const fs::path& path) {
+  const std::string stem = path.stem().string();
+  for (const char* kind : {"_mean", "_stderr", "_zmap", "_reference", "_strategies"}) {
+    if (stem.ends_with(kind)) return true;
+  }
+  return stem.starts_with("reference_");
+}
+
+// The run id of a pcbench replicate file, `<id>_rep<k>`, or "" for any other name.
+std::string replicate_run_id(const fs::path& path) {
+  const std::string stem = path.stem().string();
+  const std::size_t at = stem.rfind("_rep");
+  if (at == std::string::npos || at + 4 == stem.size()) return "";
+  const bool digits = std::all_of(stem.begin() + static_cast<std::ptrdiff_t>(at + 4), stem.end(),
+                                  [](unsigned char c) { return std::isdigit(c) != 0; });
+  return digits ? stem.substr(0, at) : "";
+}
+
+// A folder given as a set holds replicates only: pcbench's statistics images, or the
+// replicates of several of its runs, beside them would be read as replicates and pass with a
+// meaningless detectable bias. Refused, naming the files and the glob that takes one run's.
+void check_folder_holds_replicates(const std::string& folder, const std::vector<std::string>& files,
+                                   const std::string& option) {
+  std::vector<std::string> others;
+  std::set<std::string> runs;
+  for (const std::string& file : files) {
+    if (statistics_image(file)) others.push_back(fs::path(file).filename().string());
+    if (const std::string id = replicate_run_id(file); !id.empty()) runs.insert(id);
+  }
+  if (!others.empty()) {
+    throw InputError(fmt::format(
+        "command line: {} '{}': the folder holds images that are not replicates ({}): a folder "
+        "must hold one set's replicates only; give them as a quoted glob, e.g. '{}/*_rep*.exr'",
+        option, folder, join_names(others), folder));
+  }
+  if (runs.size() > 1) {
+    throw InputError(fmt::format(
+        "command line: {} '{}': the folder holds the replicates of {} runs ({}); give one run's "
+        "as a quoted glob, e.g. '{}/{}_rep*.exr'",
+        option, folder, runs.size(), join_names(runs), folder, *runs.begin()));
+  }
 }
 
 std::vector<std::string> glob_files(const std::string& pattern) {
@@ -129,6 +176,22 @@ void add_image(ImageSet& out, std::map<std::uint64_t, std::size_t>& seen, Image 
   out.files.push_back(std::move(facts));
 }
 
+// No image of `set` in `other`, by content: a set tested against itself (the same files, or
+// copies) agrees with a detectable bias that means nothing.
+void check_sets_differ(const ImageSet& set, const ImageSet& other) {
+  std::map<std::uint64_t, std::size_t> seen;
+  for (std::size_t i = 0; i < set.images.size(); ++i) seen.emplace(content_hash(set.images[i]), i);
+  for (std::size_t j = 0; j < other.images.size(); ++j) {
+    const auto it = seen.find(content_hash(other.images[j]));
+    if (it == seen.end()) continue;
+    throw InputError(fmt::format(
+        "command line: --images and --against hold the same image ({} and {}): a set tested "
+        "against itself, or against copies of its files, agrees with a detectable bias that "
+        "means nothing; give two independent sets (other seeds, or another renderer)",
+        set.files[it->second].path, other.files[j].path));
+  }
+}
+
 // --reference-image and its --reference-stderr into `input`.
 void read_reference(const ImageSetRequest& request, ImageSetInput& input) {
   const Image& like = input.set.images.front();
@@ -165,6 +228,7 @@ std::vector<std::string> image_set_files(const std::string& set, const std::stri
       throw InputError(
           fmt::format("command line: {} '{}': the folder holds no {} file", option, set, kFormats));
     }
+    check_folder_holds_replicates(set, files, option);
     return files;
   }
   if (set.find_first_of("*?[") != std::string::npos) {
@@ -319,6 +383,7 @@ ImageSetInput read_image_set_input(const ImageSetRequest& request, ImagesInMemor
           "(replicate k of both from the same seed)",
           input.set.images.size(), input.other->images.size()));
     }
+    check_sets_differ(input.set, *input.other);
     input.quantisation = std::max(input.quantisation, input.other->quantisation_bias);
   } else if (loaded.reference) {
     check_same_size(*loaded.reference, like, *request.reference_image);

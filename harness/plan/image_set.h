@@ -57,7 +57,9 @@ struct ImageSet {
 
 // The files of SET: a folder (its .exr, .hdr and .pfm files, sorted by name), a glob pattern
 // (sorted matches), or a comma-separated list. Throws InputError naming `option` when nothing
-// matches.
+// matches, and for a folder that holds more than one set's replicates: pcbench's statistics
+// images (`<id>_mean.exr`, `_stderr`, `_zmap`, `_reference`, `_strategies`, `images_*.exr`,
+// `reference_*.exr`, named) or the replicates `<id>_rep<k>` of several runs.
 std::vector<std::string> image_set_files(const std::string& set, const std::string& option);
 
 // One image: the chosen channels, cropped. Throws InputError (file, what is wrong, the valid
@@ -93,6 +95,8 @@ struct ImageSetRequest {
   // --paired (with --against): replicate k of both sets comes from the same random streams, so
   // each block is tested on the replicate differences (harness/verify/block_pyramid.h).
   bool paired = false;
+  // --fail-underpowered: a consistent verdict whose scales miss a power requirement exits 4.
+  bool fail_underpowered = false;
 };
 
 // Parses --crop X,Y,W,H. Throws InputError.
@@ -119,7 +123,8 @@ struct ImagesInMemory {
 
 // Reads `request`'s set and the one thing it is tested against (--against, --reference-image
 // or --constant; the request says exactly one), all of one size; what `loaded` holds is taken
-// instead of read. Throws InputError naming the file or option.
+// instead of read. Throws InputError naming the file or option, and when an image of --against
+// has the pixels of one of --images (the same files, or copies, on both sides).
 ImageSetInput read_image_set_input(const ImageSetRequest& request, ImagesInMemory loaded = {});
 
 }  // namespace pcbench

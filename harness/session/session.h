@@ -32,6 +32,9 @@ enum ExitStatus : int {
   kExitVerdictDiffers = 1,
   kExitBadInput = 2,
   kExitRunFailed = 3,
+  // verify --images --fail-underpowered: every verdict as expected, but the comparison's test
+  // misses a scale's power requirement (docs/reference/INTERFACE.md).
+  kExitUnderpowered = 4,
   kExitInterrupted = 130
 };
 

@@ -159,6 +159,7 @@ PyramidResult decide_pyramid(const std::vector<std::vector<TwoSampleTest>>& raw,
         .block = scales[s].block, .columns = scales[s].columns, .rows = scales[s].rows};
     const double tests = static_cast<double>(raw[s].size());
     scale.detection_share = alpha / (static_cast<double>(options.family_size) * levels * tests);
+    std::vector<double> relatives;
     for (std::size_t k = 0; k < raw[s].size(); ++k) {
       BlockTest t =
           block_test(raw[s][k], scales[s], k, scale.detection_share,
@@ -166,6 +167,7 @@ PyramidResult decide_pyramid(const std::vector<std::vector<TwoSampleTest>>& raw,
       if (t.bright) {
         ++scale.bright_tests;
         const double relative = t.min_detectable_bias / (0.5 * (t.mean_a + t.mean_b));
+        relatives.push_back(relative);
         // NaN sticks: an unknown power must not read as enough.
         if (std::isnan(relative) || std::isnan(scale.worst_bright_relative_mdb)) {
           scale.worst_bright_relative_mdb = kNaN;
@@ -177,6 +179,8 @@ PyramidResult decide_pyramid(const std::vector<std::vector<TwoSampleTest>>& raw,
       weights.push_back(1.0 / (levels * tests));
       scale.tests.push_back(t);
     }
+    scale.median_bright_relative_mdb =
+        relatives.empty() ? 0.0 : median_or_nan(std::move(relatives));
     out.scales.push_back(std::move(scale));
   }
 

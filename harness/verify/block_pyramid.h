@@ -75,6 +75,10 @@ struct ScaleTests {
   // block's mean that this scale may have missed. NaN if some bright test's is NaN, 0 without
   // bright tests.
   double worst_bright_relative_mdb = 0;
+  // The median of the same ratios over the bright tests: what a typical bright block may hide
+  // (the worst is often one dim edge block, and reads as typical when stated alone). NaN as the
+  // worst, 0 without bright tests.
+  double median_bright_relative_mdb = 0;
   std::uint32_t bright_tests = 0;
 };
 

@@ -25,6 +25,13 @@ std::string scale_label(std::uint32_t block, bool whole) {
 
 }  // namespace
 
+std::string requirement_status(double relative_mdb, double required) {
+  if (std::isnan(relative_mdb)) return "unknown (a bright block's detectable bias is undefined)";
+  if (relative_mdb <= required) return "met";
+  return fmt::format("not met; needs {:.3g}× the samples per pixel",
+                     samples_factor(relative_mdb, required));
+}
+
 Verdict pyramid_verdict(const PyramidResult& t, const ScaleRequirements& requirements,
                         std::string expect) {
   Verdict v;
@@ -37,16 +44,13 @@ Verdict pyramid_verdict(const PyramidResult& t, const ScaleRequirements& require
   for (std::size_t s = 0; s < t.scales.size(); ++s) {
     const ScaleTests& scale = t.scales[s];
     if (scale.min_p_adjusted < t.scales[smallest].min_p_adjusted) smallest = s;
-    std::string power =
-        fmt::format("{} ≤ {:.3g}%", scale_label(scale.block, s + 1 == t.scales.size()),
-                    100.0 * scale.worst_bright_relative_mdb);
+    std::string power = fmt::format("{} ≤ {:.3g}% (worst bright block; median {:.3g}%)",
+                                    scale_label(scale.block, s + 1 == t.scales.size()),
+                                    100.0 * scale.worst_bright_relative_mdb,
+                                    100.0 * scale.median_bright_relative_mdb);
     if (const std::optional<double> required = requirement(t, s, requirements)) {
-      const double factor = samples_factor(scale.worst_bright_relative_mdb, *required);
-      power += fmt::format(" (required ≤ {:.3g}%{})", 100.0 * *required,
-                           std::isnan(factor) ? ": unknown"
-                           : factor > 1.0
-                               ? fmt::format(": met at about {:.3g}× the samples per pixel", factor)
-                               : ": met");
+      power += fmt::format(" (required ≤ {:.3g}%: {})", 100.0 * *required,
+                           requirement_status(scale.worst_bright_relative_mdb, *required));
     }
     powers.push_back(std::move(power));
   }
@@ -79,6 +83,7 @@ Comparison pyramid_comparison(const PyramidResult& t, const ScaleRequirements& r
                         .tests = static_cast<std::uint32_t>(scale.tests.size()),
                         .bright_tests = scale.bright_tests,
                         .relative_mdb = scale.worst_bright_relative_mdb,
+                        .median_relative_mdb = scale.median_bright_relative_mdb,
                         .alpha_share = scale.detection_share,
                         .min_p_adjusted = scale.min_p_adjusted,
                         .required_mdb = requirement(t, s, requirements)});
@@ -138,10 +143,13 @@ std::vector<std::string> scene_power_lines(const std::vector<Comparison>& compar
       order.push_back(c.integrand);
       continue;
     }
-    for (std::size_t s = 0; s < std::min(it->second.size(), c.scales.size()); ++s) {
-      double& mdb = it->second[s].relative_mdb;
-      const double other = c.scales[s].relative_mdb;
+    // NaN sticks: an unknown power must not read as enough.
+    const auto worse = [](double& mdb, double other) {
       mdb = std::isnan(mdb) || std::isnan(other) ? other + mdb : std::max(mdb, other);
+    };
+    for (std::size_t s = 0; s < std::min(it->second.size(), c.scales.size()); ++s) {
+      worse(it->second[s].relative_mdb, c.scales[s].relative_mdb);
+      worse(it->second[s].median_relative_mdb, c.scales[s].median_relative_mdb);
     }
   }
   std::vector<std::string> lines;
@@ -151,16 +159,13 @@ std::vector<std::string> scene_power_lines(const std::vector<Comparison>& compar
     bool met = true;
     for (std::size_t s = 0; s < scales.size(); ++s) {
       const Comparison::Scale& scale = scales[s];
-      std::string part =
-          fmt::format("{} ≤ {:.3g}%", scale_label(scale.block, s + 1 == scales.size()),
-                      100.0 * scale.relative_mdb);
+      std::string part = fmt::format("{} ≤ {:.3g}% (median {:.3g}%)",
+                                     scale_label(scale.block, s + 1 == scales.size()),
+                                     100.0 * scale.relative_mdb, 100.0 * scale.median_relative_mdb);
       if (scale.required_mdb) {
-        const double factor = samples_factor(scale.relative_mdb, *scale.required_mdb);
-        const bool meets = scale.relative_mdb <= *scale.required_mdb;
-        met = met && meets;
-        part += fmt::format(
-            " (required ≤ {:.3g}%: {})", 100.0 * *scale.required_mdb,
-            meets ? "met" : fmt::format("missed, {:.3g}× the samples per pixel", factor));
+        met = met && scale.relative_mdb <= *scale.required_mdb;
+        part += fmt::format(" (required ≤ {:.3g}%: {})", 100.0 * *scale.required_mdb,
+                            requirement_status(scale.relative_mdb, *scale.required_mdb));
       }
       parts.push_back(std::move(part));
     }

@@ -23,6 +23,10 @@ namespace pcbench {
 Verdict pyramid_verdict(const PyramidResult& t, const ScaleRequirements& requirements,
                         std::string expect);
 
+// Whether a scale's detectable bias meets its requirement, in words: "met", "not met; needs
+// 1.09× the samples per pixel" (samples_factor), or "unknown" for a NaN detectable bias.
+std::string requirement_status(double relative_mdb, double required);
+
 // The comparison entry of a pyramid of a (run or image set id) against b ("exact", a run id, a
 // set); `label` reads "E_a vs E_b".
 Comparison pyramid_comparison(const PyramidResult& t, const ScaleRequirements& requirements,

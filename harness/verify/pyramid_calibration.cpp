@@ -95,16 +95,6 @@ BlockPowerPoint power_point(std::span<const InjectionSeed> seeds, std::size_t j,
 
 }  // namespace
 
-double median_or_nan(std::vector<double> values) {
-  if (values.empty() ||
-      std::any_of(values.begin(), values.end(), [](double v) { return std::isnan(v); })) {
-    return kNaN;
-  }
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
 const BlockTest& centre_block(const ScaleTests& scale, std::uint32_t width, std::uint32_t height) {
   const std::uint32_t bx = (width / 2) / scale.block, by = (height / 2) / scale.block;
   const auto it = std::find_if(scale.tests.begin(), scale.tests.end(), [&](const BlockTest& t) {

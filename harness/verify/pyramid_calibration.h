@@ -184,8 +184,4 @@ struct ScalePowerCurve {
 ScalePowerCurve scale_power_curve(std::span<const InjectionSeed> seeds, InjectionRule rule,
                                   std::size_t scale, std::span<const double> multipliers);
 
-// The median; NaN when some value is (an unknown detectable bias must not read as a small one)
-// or there are none.
-double median_or_nan(std::vector<double> values);
-
 }  // namespace pcbench

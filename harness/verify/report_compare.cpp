@@ -41,19 +41,23 @@ bool ComparisonOutcome::as_expected() const {
                      [](const Comparison& c) { return c.result == c.expect; });
 }
 
+void set_test_figures(Comparison& c, const TwoSampleTest& test) {
+  c.statistic = test.statistic;
+  c.dof = test.dof;
+  c.mean_a = test.mean_a;
+  c.mean_b = test.mean_b;
+  c.stderr_a = test.stderr_a;
+  c.stderr_b = test.stderr_b;
+}
+
 Comparison comparison_from(const TwoSampleTest& test, std::string a, std::string b,
                            std::size_t replicates_a, std::size_t replicates_b) {
   Comparison c;
   c.a = std::move(a);
   c.b = std::move(b);
-  c.statistic = test.statistic;
-  c.dof = test.dof;
+  set_test_figures(c, test);
   c.p_value = test.p_value;
   c.p_adjusted = test.p_value;
-  c.mean_a = test.mean_a;
-  c.mean_b = test.mean_b;
-  c.stderr_a = test.stderr_a;
-  c.stderr_b = test.stderr_b;
   c.replicates_a = replicates_a;
   c.replicates_b = replicates_b;
   return c;
@@ -169,6 +173,7 @@ Json scales_json(const Comparison& c) {
                {"bright_tests", scale.bright_tests},
                {"alpha_share", scale.alpha_share},
                {"relative_mdb", finite_or_null(scale.relative_mdb)},
+               {"median_relative_mdb", finite_or_null(scale.median_relative_mdb)},
                {"required_mdb", nullptr},
                {"meets_requirement", nullptr},
                {"samples_factor_for_required_mdb", nullptr},

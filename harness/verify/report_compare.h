@@ -53,6 +53,8 @@ struct Comparison {
     // `alpha_share` = alpha / (m × L × n_s) that decides (m the session family's tested verdicts,
     // L the scales, n_s this scale's tests).
     double relative_mdb = 0.0;
+    // The median of the same over the bright blocks (the worst is one block, often a dim one).
+    double median_relative_mdb = 0.0;
     double alpha_share = 0.0;
     double min_p_adjusted = 1.0;  // within the comparison
     std::optional<double> required_mdb = {};
@@ -87,6 +89,10 @@ struct ComparisonOutcome {
   // Every comparison's result equals its expectation (the exit status is 1 otherwise).
   bool as_expected() const;
 };
+
+// The figures of a two-sample test (statistic, dof, both means and standard errors) into `c`,
+// its p-values and counts left as they are.
+void set_test_figures(Comparison& c, const TwoSampleTest& test);
 
 // Compares two reports already read; `name_a` and `name_b` name them in warnings and reasons.
 // alpha must be in (0, 1] (InputError otherwise).

@@ -479,4 +479,14 @@ ProportionInterval wilson_interval(std::uint64_t successes, std::uint64_t trials
   return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
 }
 
+double median_or_nan(std::vector<double> values) {
+  if (values.empty() ||
+      std::any_of(values.begin(), values.end(), [](double v) { return std::isnan(v); })) {
+    return kNaN;
+  }
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
 }  // namespace pcbench

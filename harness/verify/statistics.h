@@ -181,6 +181,10 @@ TwoSampleTest with_rounding_floor(TwoSampleTest test, double bound);
 // family with the runs' tests; the test's standard error gives its minimum detectable difference.
 Verdict two_sample_verdict(const TwoSampleTest& test, std::string expect);
 
+// The median; NaN when some value is (an unknown detectable bias must not read as a small one)
+// or there are none.
+double median_or_nan(std::vector<double> values);
+
 // Holm's step-down adjusted p-values, in the order of `p_values`:
 // p_adj(i) = max over j <= i of min(1, (m - j + 1) p_(j)) with p_(1) <= ... <= p_(m).
 std::vector<double> holm_adjusted(std::span<const double> p_values);
