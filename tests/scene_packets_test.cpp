@@ -111,7 +111,9 @@ TEST_P(ScenePackets, OccludedManyIsOccludedRayByRay) {
     empty_count += rays[i].empty;
   }
   EXPECT_GT(empty_count, 0u);
-  if (!scene.traits().convex_enclosure) EXPECT_GT(blocked_count, 0u);
+  if (!scene.traits().convex_enclosure) {
+    EXPECT_GT(blocked_count, 0u);
+  }
 }
 
 TEST_P(ScenePackets, WalkLanesIsTheOneRayWalk) {
@@ -152,8 +154,8 @@ TEST_P(ScenePackets, WalkLanesIsTheOneRayWalk) {
 INSTANTIATE_TEST_SUITE_P(BuiltIn, ScenePackets,
                          ::testing::Values("furnace", "cornell", "cornell-glossy", "door-ajar",
                                            "lampshade", "many-lights"),
-                         [](const auto& info) {
-                           std::string name = info.param;
+                         [](const auto& test) {
+                           std::string name = test.param;
                            for (char& c : name) c = c == '-' ? '_' : c;
                            return name;
                          });

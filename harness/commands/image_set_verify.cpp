@@ -423,8 +423,7 @@ int run_image_set_verification(const ImageSetRequest& request, const SessionOpti
   if (request.fail_underpowered && comparison.expect == "consistent" &&
       !requirements_met(comparison)) {
     out << "power requirement not met (--fail-underpowered): exit 4; render more samples per "
-           "pixel, as the line above says
-";
+           "pixel, as the line above says\n";
     return kExitUnderpowered;
   }
   return kExitOk;
