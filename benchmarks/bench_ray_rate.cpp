@@ -2,15 +2,14 @@
 // to Embree tracing the same rays alone.
 //
 // BM_RayRate/<estimator>/<scene> renders one iteration at 32×32 (BM_RayRate/{pcbpt,bdpt,pt}/
-// <scene>/128 at 128×128) on one thread per benchmark iteration (replicates 0, 1, 2, …, as a run takes them)
-// and counts its rays: rays_per_second.
-// Before timing, replicate 0 is rendered once with the scene's ray log on (Scene::log_rays), which
-// records every ray as Embree was given it, in order; after timing, those rays are traced again by
-// rtcIntersect1/rtcOccluded1 alone on a BVH built here over the same triangles, in the same order
-// and mix: embree_rays_per_second (thread CPU time). ratio = rays_per_second ÷
-// embree_rays_per_second is the share of a render's time that tracing would take if nothing else
-// cost anything; 1 − ratio is what the estimator's own work costs. Both rates come from one
-// benchmark run, side by side, as the targets ask.
+// <scene>/128 at 128×128) on one thread per benchmark iteration (replicates 0, 1, 2, …, as a run
+// takes them) and counts its rays: rays_per_second. Before timing, replicate 0 is rendered once
+// with the scene's ray log on (Scene::log_rays), which records every ray as Embree was given it, in
+// order; after timing, those rays are traced again by rtcIntersect1/rtcOccluded1 alone on a BVH
+// built here over the same triangles, in the same order and mix: embree_rays_per_second (thread CPU
+// time). ratio = rays_per_second ÷ embree_rays_per_second is the share of a render's time that
+// tracing would take if nothing else cost anything; 1 − ratio is what the estimator's own work
+// costs. Both rates come from one benchmark run, side by side, as the targets ask.
 //
 // BM_ShadowPackets/<estimator>/<scene>/<width> asks what tracing shadow rays in batches would buy
 // (issue 27's "rays in batches through Embree's packet interface"): the same logged rays, the
