@@ -222,6 +222,28 @@ void RandomStream::refill() {
   next_ = 0;
 }
 
+void RandomStream::uniforms(std::span<double> out) {
+  std::size_t i = 0;
+  while (i < out.size() && next_ <= 2) out[i++] = uniform();  // what is left of this block
+  // Whole blocks, a group at a time; the last one stays the stream's block, its words read as
+  // far as uniform() would have read them.
+  constexpr std::size_t kGroup = 32;
+  PhiloxCounter counters[kGroup], blocks[kGroup];
+  while (i < out.size()) {
+    const std::size_t group = std::min(kGroup, (out.size() - i + 1) / 2);
+    for (std::size_t g = 0; g < group; ++g) {
+      counters[g] = counter_;
+      ++counter_[0];
+    }
+    philox4x32_10_many(std::span(counters, group), key_, std::span(blocks, group));
+    for (std::size_t g = 0; g < group; ++g) {
+      block_ = blocks[g];
+      for (next_ = 0; next_ <= 2 && i < out.size(); next_ += 2)
+        out[i++] = uniform_of(block_, next_);
+    }
+  }
+}
+
 void SampleStreams::fill() {
   // Past the last sample the streams are still well defined (a caller that asks for more gets
   // the next samples' streams).

@@ -91,6 +91,11 @@ class RandomStream {
     return static_cast<double>(((hi << 32) | lo) >> 11) * 0x1.0p-53;
   }
 
+  // The next out.size() uniforms, the numbers uniform() would give one call at a time, their
+  // blocks computed many at a time (philox4x32_10_many): a resampling step reads three per
+  // candidate, and one block at a time those refills were a sixth of a candidate's cost.
+  void uniforms(std::span<double> out);
+
   // Uniform integer in [0, n) for n >= 1 (Lemire's multiply-shift; bias < n / 2^32).
   std::uint32_t uniform_index(std::uint32_t n) {
     if (next_ >= 4) refill();

@@ -9,6 +9,7 @@
 // procedure as run, not the formula it is meant to follow.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -33,6 +34,29 @@ class Reservoir {
   void offer(std::uint32_t j, double w, RandomStream& rng) {
     const double a = acceptance(w);
     if (a >= 1.0 || (a > 0.0 && rng.uniform() < a)) kept_ = j;
+  }
+  // offer() for candidates first, first + 1, … of `weights`, in order: the same choices from
+  // the same numbers, the uniforms the acceptances need (one for each 0 < a < 1) read from `rng`
+  // kBatch candidates at a time (RandomStream::uniforms).
+  static constexpr std::size_t kBatch = 64;
+  void offer_all(std::uint32_t first, std::span<const double> weights, RandomStream& rng) {
+    for (std::size_t start = 0; start < weights.size(); start += kBatch) {
+      const std::size_t n = std::min(kBatch, weights.size() - start);
+      double accept[kBatch], u[kBatch];
+      std::size_t draws = 0;
+      for (std::size_t j = 0; j < n; ++j) {
+        accept[j] = acceptance(weights[start + j]);
+        if (accept[j] > 0.0 && accept[j] < 1.0) ++draws;
+      }
+      rng.uniforms(std::span(u, draws));
+      std::size_t k = 0;
+      for (std::size_t j = 0; j < n; ++j) {
+        const double a = accept[j];
+        if (a >= 1.0 || (a > 0.0 && u[k++] < a)) {
+          kept_ = first + static_cast<std::uint32_t>(start + j);
+        }
+      }
+    }
   }
   void keep(std::uint32_t j) { kept_ = j; }
 

@@ -62,6 +62,27 @@ TEST(ReservoirSampling, SampledChoicesFollowTheEnumeration) {
   EXPECT_GT(chi_square_p_value(observed, expected), 1e-6);
 }
 
+// offer_all makes offer()'s choices from the same numbers and leaves the stream where offer()
+// leaves it: weights with zeros (no uniform read) and a first candidate of a = 1, counts across
+// its batch of 64, and a run that starts with a weight sum and a kept candidate.
+TEST(ReservoirSampling, OfferAllMakesOffersChoices) {
+  std::vector<double> weights;
+  for (std::uint32_t j = 0; j < 150; ++j) weights.push_back(j % 7 == 3 ? 0.0 : 0.5 + (j * 37 % 11));
+  for (std::size_t count : {1u, 5u, 64u, 65u, 150u}) {
+    for (std::uint32_t seed = 0; seed < 40; ++seed) {
+      RandomStream one_rng({.key = 32, .sample = seed}), all_rng({.key = 32, .sample = seed});
+      Reservoir one, all;
+      one.offer(0, 2.0, one_rng);
+      all.offer(0, 2.0, all_rng);
+      for (std::uint32_t j = 0; j < count; ++j) one.offer(1 + j, weights[j], one_rng);
+      all.offer_all(1, std::span(weights).first(count), all_rng);
+      EXPECT_EQ(all.kept(), one.kept()) << count << " " << seed;
+      EXPECT_EQ(all.weight_sum(), one.weight_sum());
+      EXPECT_EQ(all_rng.uniform(), one_rng.uniform());
+    }
+  }
+}
+
 // Sequence of pool indices -> (probability, Σ coefficients of its terms) of one enumeration.
 using Distribution = std::map<std::vector<std::uint32_t>, std::pair<double, double>>;
 

@@ -88,6 +88,31 @@ TEST(RngStream, SampleStreamsAreEachSamplesStream) {
   }
 }
 
+// uniforms(out) gives the numbers uniform() gives one at a time and leaves the stream where they
+// leave it: from every position within a block (after uniform_index's single words too), for
+// counts across its group of blocks, and followed by either kind of draw.
+TEST(RngStream, BulkUniformsAreTheOneByOneNumbers) {
+  const StreamId id{
+      .key = 0x5eed, .replicate = 2, .purpose = StreamPurpose::kCameraPath, .sample = 4, .path = 1};
+  for (int lead = 0; lead < 4; ++lead) {
+    for (std::size_t count : {0u, 1u, 2u, 3u, 7u, 63u, 64u, 65u, 200u}) {
+      RandomStream bulk(id), one(id);
+      for (int k = 0; k < lead; ++k) {  // single words shift the position by one
+        EXPECT_EQ(bulk.uniform_index(97), one.uniform_index(97));
+      }
+      std::vector<double> out(count);
+      bulk.uniforms(out);
+      for (std::size_t i = 0; i < count; ++i) {
+        EXPECT_EQ(out[i], one.uniform()) << lead << " " << count << " " << i;
+      }
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(bulk.uniform(), one.uniform()) << lead << " " << count;
+        EXPECT_EQ(bulk.uniform_index(1000), one.uniform_index(1000)) << lead << " " << count;
+      }
+    }
+  }
+}
+
 TEST(RngStream, SameIdGivesSameNumbers) {
   const StreamId id{
       .key = 42, .replicate = 3, .purpose = StreamPurpose::kCameraPath, .sample = 17, .path = 5};

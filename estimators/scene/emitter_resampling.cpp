@@ -1,6 +1,9 @@
 #include "estimators/scene/emitter_resampling.h"
 
+#include <algorithm>
+
 #include "estimators/reservoir.h"
+#include "integrands/scenes/next_event_values.h"
 
 namespace pcbench::scene {
 
@@ -17,17 +20,57 @@ EmitterTargetValue emitter_target(const RenderServices& services, const PathVert
 
 EmitterSample resample_emitters(const RenderServices& services, CameraPrefix& prefix,
                                 std::uint32_t candidates, EmitterTarget target) {
+  const Scene& scene = services.scene();
+  const Emitters& emitters = scene.emitters();
+  const NextEventValues values(scene, prefix.vertices, services.counts());
+  const bool traces = target == EmitterTarget::kVisible && !scene.traits().convex_enclosure;
+  // Candidates a batch at a time: their uniforms drawn together, the visible target's shadow
+  // rays traced as packets, the reservoir's steps taken together (Reservoir::offer_all). The
+  // same numbers, choices and counters as the candidates one by one through connect().
+  constexpr std::uint32_t kBatch = Reservoir::kBatch;
+  double u[3 * kBatch];
+  EmitterPoint points[kBatch];
+  NextEventValue at[kBatch];
+  double weights[kBatch];
+  Scene::ShadowRay rays[kBatch];
+  std::uint32_t ray_of[kBatch];
+  std::uint8_t blocked[kBatch];
   Reservoir reservoir;
   EmitterSample kept;
-  for (std::uint32_t i = 0; i < candidates; ++i) {
-    const PathVertex x = sample_emitter_vertex(services.scene(), prefix.camera);
-    const EmitterTargetValue at_x =
-        emitter_target(services, x, prefix.vertices, target, prefix.counters);
+  for (std::uint32_t first = 0; first < candidates; first += kBatch) {
+    const std::uint32_t n = std::min(kBatch, candidates - first);
+    prefix.camera.uniforms(std::span(u, 3 * n));
+    std::uint32_t shadowed = 0;
+    for (std::uint32_t j = 0; j < n; ++j) {
+      points[j] = emitters.sample(u[3 * j], u[3 * j + 1], u[3 * j + 2]);
+      at[j] = values.value(points[j], prefix.counters);
+      if (target == EmitterTarget::kVisible && !at[j].value.is_black()) {
+        if (!traces) {
+          ++prefix.counters.skipped_convex;
+          continue;
+        }
+        rays[shadowed] = scene.shadow_ray(points[j].position, values.camera_end().position,
+                                          at[j].distance_squared, at[j].distance);
+        ray_of[shadowed++] = j;
+      }
+    }
+    if (shadowed > 0) {
+      scene.occluded_many(std::span(rays, shadowed), std::span(blocked, shadowed));
+      prefix.counters.shadow_rays += shadowed;
+      for (std::uint32_t k = 0; k < shadowed; ++k) {
+        if (!blocked[k]) continue;
+        ++prefix.counters.occluded;
+        at[ray_of[k]].value = {};
+      }
+    }
     // w = p̂ / q: the value's largest channel, the connection already divided by q.
-    reservoir.offer(i, at_x.value.max_channel(), prefix.draws);
-    if (reservoir.kept() == i) {
-      kept.point = x;
-      kept.at_owner = at_x;
+    for (std::uint32_t j = 0; j < n; ++j) weights[j] = at[j].value.max_channel();
+    const std::uint32_t before = reservoir.kept();
+    reservoir.offer_all(first, std::span(weights, n), prefix.draws);
+    if (reservoir.kept() != before) {
+      const std::uint32_t j = reservoir.kept() - first;
+      kept.point = emitter_vertex(points[j]);
+      kept.at_owner = {at[j].value, at[j].value.max_channel() * kept.point.pdf_fwd};
     }
   }
   if (!reservoir.empty()) {

@@ -99,7 +99,10 @@ void trace_camera_path(const Scene& scene, double fx, double fy, RandomStream& r
 
 PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng) {
   const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-  const EmitterPoint e = scene.emitters().sample(u0, u1, u2);
+  return emitter_vertex(scene.emitters().sample(u0, u1, u2));
+}
+
+PathVertex emitter_vertex(const EmitterPoint& e) {
   // Every member given: a default-built vertex was zeroed first (rep stos), then filled.
   return {.kind = VertexKind::kEmitter,
           .position = e.position,

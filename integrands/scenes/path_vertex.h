@@ -93,6 +93,8 @@ void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_l
 
 // One emitter vertex alone (path tracing's next-event estimation).
 PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng);
+// The vertex of emitter point `e` (what sample_emitter_vertex makes of the point it samples).
+PathVertex emitter_vertex(const EmitterPoint& e);
 
 // Solid-angle density of emission from emitter point v in unit direction w: cosine-weighted
 // into the front of a triangle, uniform for a point light.
