@@ -18,51 +18,64 @@ EmitterTargetValue emitter_target(const RenderServices& services, const PathVert
   return {value, value.max_channel() * x.pdf_fwd};
 }
 
+namespace {
+
+// The visible target: the values whose shadow rays are blocked set to zero, the rays traced as
+// packets (Scene::occluded_many), counted as connect() counts them; none traced in a convex
+// enclosure, where nothing blocks a nonzero value.
+void occlude(const Scene& scene, const NextEventValues& values, const EmitterPoints& points,
+             NextEventValueLanes& at, TraceCounters& counters) {
+  constexpr std::size_t kBatch = EmitterPoints::kCapacity;
+  Scene::ShadowRay rays[kBatch];
+  std::uint32_t ray_of[kBatch];
+  std::uint8_t blocked[kBatch];
+  std::uint32_t shadowed = 0;
+  const bool traces = !scene.traits().convex_enclosure;
+  for (std::uint32_t j = 0; j < points.size; ++j) {
+    if (at[j].value.is_black()) continue;
+    if (!traces) {
+      ++counters.skipped_convex;
+      continue;
+    }
+    rays[shadowed] = scene.shadow_ray(points[j].position, values.camera_end().position,
+                                      at.distance_squared[j], at.distance[j]);
+    ray_of[shadowed++] = j;
+  }
+  if (shadowed == 0) return;
+  scene.occluded_many(std::span(rays, shadowed), std::span(blocked, shadowed));
+  counters.shadow_rays += shadowed;
+  for (std::uint32_t k = 0; k < shadowed; ++k) {
+    if (!blocked[k]) continue;
+    ++counters.occluded;
+    at.red[ray_of[k]] = at.green[ray_of[k]] = at.blue[ray_of[k]] = 0.0;
+  }
+}
+
+}  // namespace
+
 EmitterSample resample_emitters(const RenderServices& services, CameraPrefix& prefix,
                                 std::uint32_t candidates, EmitterTarget target) {
   const Scene& scene = services.scene();
   const Emitters& emitters = scene.emitters();
   const NextEventValues values(scene, prefix.vertices, services.counts());
-  const bool traces = target == EmitterTarget::kVisible && !scene.traits().convex_enclosure;
-  // Candidates a batch at a time: their uniforms drawn together, the visible target's shadow
-  // rays traced as packets, the reservoir's steps taken together (Reservoir::offer_all). The
-  // same numbers, choices and counters as the candidates one by one through connect().
-  constexpr std::uint32_t kBatch = Reservoir::kBatch;
+  // Candidates a batch at a time: their uniforms drawn together, their points and values in
+  // structure-of-arrays form (the values in SIMD lanes), the visible target's shadow rays
+  // traced as packets, the reservoir's steps taken together (Reservoir::offer_all). The same
+  // numbers, choices and counters as the candidates one by one through connect().
+  constexpr std::uint32_t kBatch = EmitterPoints::kCapacity;
+  static_assert(kBatch <= Reservoir::kBatch);
   double u[3 * kBatch];
-  EmitterPoint points[kBatch];
-  NextEventValue at[kBatch];
+  EmitterPoints points;
+  NextEventValueLanes at;
   double weights[kBatch];
-  Scene::ShadowRay rays[kBatch];
-  std::uint32_t ray_of[kBatch];
-  std::uint8_t blocked[kBatch];
   Reservoir reservoir;
   EmitterSample kept;
   for (std::uint32_t first = 0; first < candidates; first += kBatch) {
     const std::uint32_t n = std::min(kBatch, candidates - first);
     prefix.camera.uniforms(std::span(u, 3 * n));
-    std::uint32_t shadowed = 0;
-    for (std::uint32_t j = 0; j < n; ++j) {
-      points[j] = emitters.sample(u[3 * j], u[3 * j + 1], u[3 * j + 2]);
-      at[j] = values.value(points[j], prefix.counters);
-      if (target == EmitterTarget::kVisible && !at[j].value.is_black()) {
-        if (!traces) {
-          ++prefix.counters.skipped_convex;
-          continue;
-        }
-        rays[shadowed] = scene.shadow_ray(points[j].position, values.camera_end().position,
-                                          at[j].distance_squared, at[j].distance);
-        ray_of[shadowed++] = j;
-      }
-    }
-    if (shadowed > 0) {
-      scene.occluded_many(std::span(rays, shadowed), std::span(blocked, shadowed));
-      prefix.counters.shadow_rays += shadowed;
-      for (std::uint32_t k = 0; k < shadowed; ++k) {
-        if (!blocked[k]) continue;
-        ++prefix.counters.occluded;
-        at[ray_of[k]].value = {};
-      }
-    }
+    emitters.sample_many(std::span(u, 3 * n), points);
+    values.values(points, at, prefix.counters);
+    if (target == EmitterTarget::kVisible) occlude(scene, values, points, at, prefix.counters);
     // w = p̂ / q: the value's largest channel, the connection already divided by q.
     for (std::uint32_t j = 0; j < n; ++j) weights[j] = at[j].value.max_channel();
     const std::uint32_t before = reservoir.kept();
@@ -70,7 +83,7 @@ EmitterSample resample_emitters(const RenderServices& services, CameraPrefix& pr
     if (reservoir.kept() != before) {
       const std::uint32_t j = reservoir.kept() - first;
       kept.point = emitter_vertex(points[j]);
-      kept.at_owner = {at[j].value, at[j].value.max_channel() * kept.point.pdf_fwd};
+      kept.at_owner = {at[j].value, weights[j] * kept.point.pdf_fwd};
     }
   }
   if (!reservoir.empty()) {

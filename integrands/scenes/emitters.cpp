@@ -98,4 +98,11 @@ EmitterPoint Emitters::sample(double u_select, double u1, double u2) const {
           .index = e.index};
 }
 
+void Emitters::sample_many(std::span<const double> u, EmitterPoints& out) const {
+  out.size = u.size() / 3;
+  for (std::size_t j = 0; j < out.size; ++j) {
+    out.set(j, sample(u[3 * j], u[3 * j + 1], u[3 * j + 2]));
+  }
+}
+
 }  // namespace pcbench::scene

@@ -4,7 +4,9 @@
 // triangle, uniform on the sphere for a point light).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "integrands/scenes/scene_description.h"
@@ -21,6 +23,43 @@ struct EmitterPoint {
   std::uint32_t index = 0;  // the triangle, or the point light
 };
 
+// Emitter points in structure-of-arrays form: a batch of resampling candidates, laid out so
+// that NextEventValues::values weighs them in SIMD lanes. No member is initialised: a batch is
+// filled by Emitters::sample_many, and zeroing a local one first cost more than its arithmetic.
+struct EmitterPoints {
+  static constexpr std::size_t kCapacity = 64;
+  std::size_t size;
+  double x[kCapacity], y[kCapacity], z[kCapacity];  // position
+  double normal_x[kCapacity], normal_y[kCapacity], normal_z[kCapacity];
+  double red[kCapacity], green[kCapacity], blue[kCapacity];  // radiance or intensity
+  double pdf_area[kCapacity];
+  double point_light[kCapacity];  // 1 or 0: a double, so the lanes select on it without a cast
+  std::uint32_t index[kCapacity];
+
+  void set(std::size_t j, const EmitterPoint& p) {
+    x[j] = p.position.x;
+    y[j] = p.position.y;
+    z[j] = p.position.z;
+    normal_x[j] = p.normal.x;
+    normal_y[j] = p.normal.y;
+    normal_z[j] = p.normal.z;
+    red[j] = p.radiance.r;
+    green[j] = p.radiance.g;
+    blue[j] = p.radiance.b;
+    pdf_area[j] = p.pdf_area;
+    point_light[j] = p.point_light ? 1.0 : 0.0;
+    index[j] = p.index;
+  }
+  EmitterPoint operator[](std::size_t j) const {
+    return {.position = {x[j], y[j], z[j]},
+            .normal = {normal_x[j], normal_y[j], normal_z[j]},
+            .radiance = {red[j], green[j], blue[j]},
+            .pdf_area = pdf_area[j],
+            .point_light = point_light[j] != 0.0,
+            .index = index[j]};
+  }
+};
+
 class Emitters {
  public:
   explicit Emitters(const SceneDescription& scene);
@@ -30,6 +69,9 @@ class Emitters {
 
   // A start point from three uniforms.
   EmitterPoint sample(double u_select, double u1, double u2) const;
+  // sample() for u.size() / 3 points (at most EmitterPoints::kCapacity), point j from
+  // u[3j], u[3j + 1], u[3j + 2]: the same points.
+  void sample_many(std::span<const double> u, EmitterPoints& out) const;
 
   // Density (area measure) of sample() producing a point on emitting triangle `triangle`.
   double pdf_area(std::uint32_t triangle) const;

@@ -1,0 +1,127 @@
+#include "integrands/scenes/next_event_values.h"
+
+#include <cmath>
+
+#include "integrands/scenes/bsdf.h"
+
+namespace pcbench::scene {
+
+namespace next_event_lanes {
+
+// What the lanes share: the camera end y = y_{t-1}.
+struct CameraEnd {
+  Vec3 position, normal, facing;  // facing: the normal turned to the side of wo (bsdf_eval's)
+  Rgb beta;
+  bool wo_in_front;  // bsdf_eval's first same-side test, which does not depend on wi
+  const Material* material;
+  const Vec3* wo;
+};
+
+// Three passes over the batch: (1) in lanes, the segment from x to y, its direction w and the
+// geometry and emission terms; (2) f_y(wo, -w): a Lambertian end's in lanes, any other's
+// through bsdf_eval one point at a time; (3) in lanes, the products in connect()'s order and
+// the zero tests. Built twice, for SSE2 and AVX2 (no FMA in either: see the header).
+// Returns how many values were zero with a segment of nonzero length (skipped_zero).
+[[gnu::target_clones("avx2", "default")]] std::size_t weigh(const CameraEnd& y,
+                                                            const EmitterPoints& p,
+                                                            NextEventValueLanes& out) {
+  constexpr std::size_t K = EmitterPoints::kCapacity;
+  const std::size_t n = p.size;
+  double wx[K], wy[K], wz[K], geometry[K], er[K], eg[K], eb[K], fr[K], fg[K], fb[K];
+  for (std::size_t j = 0; j < n; ++j) {
+    const double dx = y.position.x - p.x[j], dy = y.position.y - p.y[j], dz = y.position.z - p.z[j];
+    const double distance_squared = dx * dx + dy * dy + dz * dz;
+    const double distance = std::sqrt(distance_squared);
+    const double inv_distance = 1.0 / distance;
+    wx[j] = dx * inv_distance;
+    wy[j] = dy * inv_distance;
+    wz[j] = dz * inv_distance;
+    const double cos_at_x = p.normal_x[j] * wx[j] + p.normal_y[j] * wy[j] + p.normal_z[j] * wz[j];
+    const double cos_at_y = y.normal.x * wx[j] + y.normal.y * wy[j] + y.normal.z * wz[j];
+    const bool point_light = p.point_light[j] != 0.0;
+    const bool emits = point_light || cos_at_x > 0.0;
+    er[j] = emits ? p.red[j] : 0.0;
+    eg[j] = emits ? p.green[j] : 0.0;
+    eb[j] = emits ? p.blue[j] : 0.0;
+    const double cos_x = point_light ? 1.0 : std::abs(cos_at_x);
+    geometry[j] = cos_x * std::abs(cos_at_y) * (inv_distance * inv_distance);
+    out.distance_squared[j] = distance_squared;
+    out.distance[j] = distance;
+  }
+  if (y.material->kind == MaterialKind::kDiffuse) {
+    const Rgb f = y.material->albedo * kInvPi;
+    for (std::size_t j = 0; j < n; ++j) {
+      // bsdf_eval's dot(n, wi) > 0 for wi = -w, term for term.
+      const bool front =
+          y.wo_in_front && y.facing.x * -wx[j] + y.facing.y * -wy[j] + y.facing.z * -wz[j] > 0.0;
+      fr[j] = front ? f.r : 0.0;
+      fg[j] = front ? f.g : 0.0;
+      fb[j] = front ? f.b : 0.0;
+    }
+  } else {
+    for (std::size_t j = 0; j < n; ++j) {
+      const Rgb f = bsdf_eval(*y.material, y.normal, *y.wo, -Vec3{wx[j], wy[j], wz[j]});
+      fr[j] = f.r;
+      fg[j] = f.g;
+      fb[j] = f.b;
+    }
+  }
+  std::size_t skipped_zero = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double inv_pdf = 1.0 / p.pdf_area[j];
+    const double red = inv_pdf * er[j] * fr[j] * y.beta.r * geometry[j];
+    const double green = inv_pdf * eg[j] * fg[j] * y.beta.g * geometry[j];
+    const double blue = inv_pdf * eb[j] * fb[j] * y.beta.b * geometry[j];
+    const bool segment = out.distance_squared[j] != 0.0;
+    const bool black = red == 0.0 && green == 0.0 && blue == 0.0;
+    const bool keep = segment && !black;
+    skipped_zero += segment && black ? 1 : 0;
+    out.red[j] = keep ? red : 0.0;
+    out.green[j] = keep ? green : 0.0;
+    out.blue[j] = keep ? blue : 0.0;
+    out.distance_squared[j] = keep ? out.distance_squared[j] : 0.0;
+    out.distance[j] = keep ? out.distance[j] : 0.0;
+  }
+  return skipped_zero;
+}
+
+}  // namespace next_event_lanes
+
+NextEventValues::NextEventValues(const Scene& scene, std::span<const PathVertex> camera,
+                                 const StrategyCounts& counts)
+    : end_(camera.back()),
+      material_(scene.material(end_.triangle)),
+      connects_(counts.count(1, static_cast<std::uint32_t>(camera.size())) > 0.0 && !end_.delta) {}
+
+void NextEventValues::values(const EmitterPoints& points, NextEventValueLanes& out,
+                             TraceCounters& counters) const {
+  const std::size_t n = points.size;
+  if (!connects_) {
+    for (std::size_t j = 0; j < n; ++j) {
+      out.red[j] = out.green[j] = out.blue[j] = 0.0;
+      out.distance_squared[j] = out.distance[j] = 0.0;
+    }
+    return;
+  }
+  counters.connections += n;
+  const Vec3 facing = bsdf_detail::facing(end_.normal, end_.to_previous);
+  const next_event_lanes::CameraEnd y{.position = end_.position,
+                                      .normal = end_.normal,
+                                      .facing = facing,
+                                      .beta = end_.beta,
+                                      .wo_in_front = dot(facing, end_.to_previous) > 0.0,
+                                      .material = &material_,
+                                      .wo = &end_.to_previous};
+  counters.skipped_zero += next_event_lanes::weigh(y, points, out);
+}
+
+NextEventValue NextEventValues::value(const EmitterPoint& x, TraceCounters& counters) const {
+  EmitterPoints one;
+  one.size = 1;
+  one.set(0, x);
+  NextEventValueLanes out;
+  values(one, out, counters);
+  return out[0];
+}
+
+}  // namespace pcbench::scene
