@@ -1,6 +1,8 @@
 #include "integrands/scenes/next_event_values.h"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "integrands/scenes/bsdf.h"
 
@@ -16,6 +18,14 @@ struct CameraEnd {
   const Material* material;
   const Vec3* wo;
 };
+
+// c ? a : b bit for bit, without a branch: written as a ternary, GCC moved the work of one arm
+// into a branch (a multiplication may trap) and then would not vectorise the loop.
+inline double select(bool c, double a, double b) {
+  const std::uint64_t mask = -static_cast<std::uint64_t>(c);
+  return std::bit_cast<double>((std::bit_cast<std::uint64_t>(a) & mask) |
+                               (std::bit_cast<std::uint64_t>(b) & ~mask));
+}
 
 // Three passes over the batch: (1) in lanes, the segment from x to y, its direction w and the
 // geometry and emission terms; (2) f_y(wo, -w): a Lambertian end's in lanes, any other's
@@ -39,24 +49,24 @@ struct CameraEnd {
     const double cos_at_x = p.normal_x[j] * wx[j] + p.normal_y[j] * wy[j] + p.normal_z[j] * wz[j];
     const double cos_at_y = y.normal.x * wx[j] + y.normal.y * wy[j] + y.normal.z * wz[j];
     const bool point_light = p.point_light[j] != 0.0;
-    const bool emits = point_light || cos_at_x > 0.0;
-    er[j] = emits ? p.red[j] : 0.0;
-    eg[j] = emits ? p.green[j] : 0.0;
-    eb[j] = emits ? p.blue[j] : 0.0;
-    const double cos_x = point_light ? 1.0 : std::abs(cos_at_x);
+    const bool emits = point_light | (cos_at_x > 0.0);
+    er[j] = select(emits, p.red[j], 0.0);
+    eg[j] = select(emits, p.green[j], 0.0);
+    eb[j] = select(emits, p.blue[j], 0.0);
+    const double cos_x = select(point_light, 1.0, std::abs(cos_at_x));
     geometry[j] = cos_x * std::abs(cos_at_y) * (inv_distance * inv_distance);
     out.distance_squared[j] = distance_squared;
     out.distance[j] = distance;
   }
   if (y.material->kind == MaterialKind::kDiffuse) {
-    const Rgb f = y.material->albedo * kInvPi;
+    // bsdf_eval's same-side test: dot(n, wo) > 0 for all lanes, dot(n, wi) > 0 for wi = -w
+    // term for term in each.
+    const Rgb f = y.wo_in_front ? y.material->albedo * kInvPi : Rgb{};
     for (std::size_t j = 0; j < n; ++j) {
-      // bsdf_eval's dot(n, wi) > 0 for wi = -w, term for term.
-      const bool front =
-          y.wo_in_front && y.facing.x * -wx[j] + y.facing.y * -wy[j] + y.facing.z * -wz[j] > 0.0;
-      fr[j] = front ? f.r : 0.0;
-      fg[j] = front ? f.g : 0.0;
-      fb[j] = front ? f.b : 0.0;
+      const bool front = y.facing.x * -wx[j] + y.facing.y * -wy[j] + y.facing.z * -wz[j] > 0.0;
+      fr[j] = select(front, f.r, 0.0);
+      fg[j] = select(front, f.g, 0.0);
+      fb[j] = select(front, f.b, 0.0);
     }
   } else {
     for (std::size_t j = 0; j < n; ++j) {
@@ -73,14 +83,14 @@ struct CameraEnd {
     const double green = inv_pdf * eg[j] * fg[j] * y.beta.g * geometry[j];
     const double blue = inv_pdf * eb[j] * fb[j] * y.beta.b * geometry[j];
     const bool segment = out.distance_squared[j] != 0.0;
-    const bool black = red == 0.0 && green == 0.0 && blue == 0.0;
-    const bool keep = segment && !black;
-    skipped_zero += segment && black ? 1 : 0;
-    out.red[j] = keep ? red : 0.0;
-    out.green[j] = keep ? green : 0.0;
-    out.blue[j] = keep ? blue : 0.0;
-    out.distance_squared[j] = keep ? out.distance_squared[j] : 0.0;
-    out.distance[j] = keep ? out.distance[j] : 0.0;
+    const bool black = (red == 0.0) & (green == 0.0) & (blue == 0.0);
+    const bool keep = segment & !black;
+    skipped_zero += static_cast<std::size_t>(segment & black);
+    out.red[j] = select(keep, red, 0.0);
+    out.green[j] = select(keep, green, 0.0);
+    out.blue[j] = select(keep, blue, 0.0);
+    out.distance_squared[j] = select(keep, out.distance_squared[j], 0.0);
+    out.distance[j] = select(keep, out.distance[j], 0.0);
   }
   return skipped_zero;
 }
