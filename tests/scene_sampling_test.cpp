@@ -548,6 +548,45 @@ TEST(SceneSamplingEmitters, PointLightAndQuadByPower) {
             kMinP);
 }
 
+// The emitter a u picks is upper_bound's over the cdf, for every u of a fine grid, every cdf
+// value and its neighbours (where the guide table's buckets round), on every built-in scene and
+// on one whose powers are so uneven that a bucket holds more entries than the branch-free
+// window (one bright quad and 400 faint slivers): the window's count and the whole search agree.
+TEST(SceneSamplingEmitters, EntryForIsUpperBound) {
+  std::vector<SceneDescription> scenes;
+  for (const std::string& name : built_in_scene_names()) scenes.push_back(*built_in_scene(name));
+  SceneDescription uneven;
+  uneven.name = "uneven";
+  uneven.materials.push_back(diffuse_material());
+  for (int i = 0; i < 400; ++i) {
+    const double x = 0.01 * i;
+    uneven.triangles.push_back(
+        {{x, 0, 0}, {x, 0, 1}, {x + 0.001 * (1 + i % 7), 0, 1}, 0, Rgb{1e-3, 1e-3, 1e-3}});
+  }
+  uneven.triangles.push_back({{0, 1, 0}, {0, 1, 4}, {4, 1, 4}, 0, Rgb{50.0, 50.0, 50.0}});
+  uneven.camera = {{1.0, 2.0, 3.0}, {1.0, 0.0, 0.5}, {0.0, 1.0, 0.0}, 45.0};
+  scenes.push_back(uneven);
+  for (const SceneDescription& d : scenes) {
+    const Scene scene(d);
+    const Emitters& emitters = scene.emitters();
+    if (emitters.empty()) continue;
+    const std::vector<double>& cdf = emitters.cdf();
+    std::vector<double> us;
+    for (int k = 0; k < 100000; ++k) us.push_back(k / 100000.0);
+    for (const double c : cdf) {
+      us.insert(us.end(), {c, std::nextafter(c, 0.0), std::nextafter(c, 1.0)});
+    }
+    std::size_t mismatches = 0;
+    for (const double u : us) {
+      if (!(u >= 0.0 && u < 1.0)) continue;
+      const auto want =
+          static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
+      mismatches += emitters.entry_for(u) != want;
+    }
+    EXPECT_EQ(mismatches, 0u) << d.name << ": " << us.size() << " values of u";
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Camera
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pcbench::scene {
 
@@ -19,14 +20,30 @@ Emitters::Emitters(const SceneDescription& scene)
     const Triangle& t = scene.triangles[i];
     if (t.emission.is_black()) continue;
     const double power = kPi * triangle_area(t) * t.emission.average();
-    entries_.push_back({false, i, power});
+    entries_.push_back({.p0 = t.p0,
+                        .edge1 = t.p1 - t.p0,
+                        .edge2 = t.p2 - t.p0,
+                        .normal = triangle_normal(t),
+                        .radiance = t.emission,
+                        .probability = power,
+                        .pdf_area = 0.0,
+                        .point_light = false,
+                        .index = i});
     total += power;
   }
   for (std::uint32_t i = 0; i < scene.point_lights.size(); ++i) {
     const PointLight& light = scene.point_lights[i];
     if (light.intensity.is_black()) continue;
     const double power = 4.0 * kPi * light.intensity.average();
-    entries_.push_back({true, i, power});
+    entries_.push_back({.p0 = light.position,
+                        .edge1 = {},
+                        .edge2 = {},
+                        .normal = {},
+                        .radiance = light.intensity,
+                        .probability = power,
+                        .pdf_area = 0.0,
+                        .point_light = true,
+                        .index = i});
     total += power;
     ++point_light_count_;
   }
@@ -35,14 +52,16 @@ Emitters::Emitters(const SceneDescription& scene)
     e.probability /= total;
     running += e.probability;
     cdf_.push_back(running);
-    if (!e.point_light) {
-      triangle_pdf_area_[e.index] = e.probability / triangle_area(scene.triangles[e.index]);
+    if (e.point_light) {
+      e.pdf_area = e.probability;  // a delta: the probability of the light itself
+    } else {
+      e.pdf_area = e.probability / triangle_area(scene.triangles[e.index]);
+      triangle_pdf_area_[e.index] = e.pdf_area;
     }
   }
   if (!cdf_.empty()) cdf_.back() = 1.0;
-  for (Entry& e : entries_) {
-    if (!e.point_light) e.normal = triangle_normal(scene.triangles[e.index]);
-  }
+  padded_cdf_ = cdf_;
+  padded_cdf_.resize(cdf_.size() + kWindow, std::numeric_limits<double>::infinity());
   // About two entries per bucket.
   const std::size_t buckets = std::max<std::size_t>(1, 2 * entries_.size());
   guide_.resize(buckets + 1);
@@ -56,11 +75,14 @@ Emitters::Emitters(const SceneDescription& scene)
 std::size_t Emitters::entry_for(double u_select) const {
   const std::size_t buckets = guide_.size() - 1;
   const std::size_t b = std::min(buckets - 1, static_cast<std::size_t>(u_select * buckets));
-  const auto first = cdf_.begin() + guide_[b];
-  const auto last = cdf_.begin() + std::min<std::size_t>(cdf_.size(), guide_[b + 1] + 1);
-  const std::size_t i = std::upper_bound(first, last, u_select) - cdf_.begin();
-  // The bucket holds the answer unless u_select * buckets rounded across a bucket's edge: then
-  // the search of the whole cdf, so the entry is always upper_bound's.
+  // The cdf is sorted, so the entries of the window at or below u_select come first and their
+  // count is upper_bound's offset from the window's start, if the window holds the answer.
+  const std::size_t first = guide_[b];
+  std::size_t below = 0;
+  for (std::size_t k = 0; k < kWindow; ++k) below += padded_cdf_[first + k] <= u_select ? 1 : 0;
+  const std::size_t i = first + below;
+  // It does unless the bucket spans more than the window or u_select * buckets rounded across
+  // a bucket's edge: then the search of the whole cdf, so the entry is always upper_bound's.
   const bool found =
       (i == 0 || cdf_[i - 1] <= u_select) && (i == cdf_.size() || cdf_[i] > u_select);
   if (found) return i;
@@ -71,31 +93,32 @@ double Emitters::pdf_area(std::uint32_t triangle) const {
   return triangle_pdf_area_[triangle];
 }
 
-EmitterPoint Emitters::sample(double u_select, double u1, double u2) const {
-  const Entry& e = entries_[std::min(entry_for(u_select), entries_.size() - 1)];
+EmitterPoint Emitters::point_on(const Entry& e, double u1, double u2) {
   // Every member given: a default-built point was zeroed first (rep stos), then filled.
   if (e.point_light) {
-    const PointLight& light = scene_.point_lights[e.index];
-    return {.position = light.position,
+    return {.position = e.p0,
             .normal = {},
-            .radiance = light.intensity,
-            .pdf_area = e.probability,
+            .radiance = e.radiance,
+            .pdf_area = e.pdf_area,
             .point_light = true,
             .index = e.index};
   }
-  const Triangle& t = scene_.triangles[e.index];
   // Uniform on the triangle by folding the unit square.
   double a = u1, b = u2;
   if (a + b > 1.0) {
     a = 1.0 - a;
     b = 1.0 - b;
   }
-  return {.position = t.p0 + a * (t.p1 - t.p0) + b * (t.p2 - t.p0),
+  return {.position = e.p0 + a * e.edge1 + b * e.edge2,
           .normal = e.normal,
-          .radiance = t.emission,
-          .pdf_area = triangle_pdf_area_[e.index],
+          .radiance = e.radiance,
+          .pdf_area = e.pdf_area,
           .point_light = false,
           .index = e.index};
+}
+
+EmitterPoint Emitters::sample(double u_select, double u1, double u2) const {
+  return point_on(entries_[std::min(entry_for(u_select), entries_.size() - 1)], u1, u2);
 }
 
 void Emitters::sample_many(std::span<const double> u, EmitterPoints& out) const {

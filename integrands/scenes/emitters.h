@@ -77,20 +77,35 @@ class Emitters {
   double pdf_area(std::uint32_t triangle) const;
 
  private:
+  // One emitter, everything a point on it needs in one row, so that a batch of candidates
+  // gathers a row each (sample_many).
   struct Entry {
-    bool point_light = false;
-    std::uint32_t index = 0;  // triangle or point light
-    double probability = 0.0;
-    Vec3 normal = {};  // the triangle's, computed once (zero for a point light)
+    Vec3 p0, edge1, edge2;  // a triangle's p0, p1 - p0, p2 - p0; a point light's position, 0, 0
+    Vec3 normal;            // the triangle's, computed once (zero for a point light)
+    Rgb radiance;           // emitted radiance, or a point light's intensity
+    double probability;     // of choosing this emitter
+    double pdf_area;        // EmitterPoint::pdf_area
+    bool point_light;
+    std::uint32_t index;  // triangle or point light
   };
-  // The entry u_select picks: the first whose cdf exceeds it, as std::upper_bound over the whole
-  // cdf finds it, searched within the guide table's bucket of u_select (a few entries, where a
-  // search of all of them mispredicts a branch per level).
+  // The point a row and two uniforms give (sample's arithmetic, one point at a time).
+  static EmitterPoint point_on(const Entry& e, double u1, double u2);
+
+ public:
+  // The entry u_select picks: the first whose cdf exceeds it, as std::upper_bound over the
+  // whole cdf finds it, counted branch-free within a window of the guide table's bucket of
+  // u_select (a search mispredicted a branch per level, a quarter of a candidate's cost), and
+  // searched over the whole cdf where the window does not hold it. Public for its test.
   std::size_t entry_for(double u_select) const;
+  const std::vector<double>& cdf() const { return cdf_; }
+
+ private:
+  static constexpr std::size_t kWindow = 8;
 
   const SceneDescription& scene_;
   std::vector<Entry> entries_;
   std::vector<double> cdf_;
+  std::vector<double> padded_cdf_;  // cdf_ and kWindow infinities, which no u_select reaches
   // guide_[b]: the first entry whose cdf exceeds b / G, for b = 0 .. G (G = guide_.size() - 1).
   std::vector<std::uint32_t> guide_;
   std::vector<double> triangle_pdf_area_;  // per triangle, 0 for a non-emitter

@@ -1,9 +1,8 @@
 #include "integrands/scenes/next_event_values.h"
 
-#include <bit>
 #include <cmath>
-#include <cstdint>
 
+#include "base/lane_select.h"
 #include "integrands/scenes/bsdf.h"
 
 namespace pcbench::scene {
@@ -18,14 +17,6 @@ struct CameraEnd {
   const Material* material;
   const Vec3* wo;
 };
-
-// c ? a : b bit for bit, without a branch: written as a ternary, GCC moved the work of one arm
-// into a branch (a multiplication may trap) and then would not vectorise the loop.
-inline double select(bool c, double a, double b) {
-  const std::uint64_t mask = -static_cast<std::uint64_t>(c);
-  return std::bit_cast<double>((std::bit_cast<std::uint64_t>(a) & mask) |
-                               (std::bit_cast<std::uint64_t>(b) & ~mask));
-}
 
 // Three passes over the batch: (1) in lanes, the segment from x to y, its direction w and the
 // geometry and emission terms; (2) f_y(wo, -w): a Lambertian end's in lanes, any other's
@@ -50,10 +41,10 @@ inline double select(bool c, double a, double b) {
     const double cos_at_y = y.normal.x * wx[j] + y.normal.y * wy[j] + y.normal.z * wz[j];
     const bool point_light = p.point_light[j] != 0.0;
     const bool emits = point_light | (cos_at_x > 0.0);
-    er[j] = select(emits, p.red[j], 0.0);
-    eg[j] = select(emits, p.green[j], 0.0);
-    eb[j] = select(emits, p.blue[j], 0.0);
-    const double cos_x = select(point_light, 1.0, std::abs(cos_at_x));
+    er[j] = lane_select(emits, p.red[j], 0.0);
+    eg[j] = lane_select(emits, p.green[j], 0.0);
+    eb[j] = lane_select(emits, p.blue[j], 0.0);
+    const double cos_x = lane_select(point_light, 1.0, std::abs(cos_at_x));
     geometry[j] = cos_x * std::abs(cos_at_y) * (inv_distance * inv_distance);
     out.distance_squared[j] = distance_squared;
     out.distance[j] = distance;
@@ -64,9 +55,9 @@ inline double select(bool c, double a, double b) {
     const Rgb f = y.wo_in_front ? y.material->albedo * kInvPi : Rgb{};
     for (std::size_t j = 0; j < n; ++j) {
       const bool front = y.facing.x * -wx[j] + y.facing.y * -wy[j] + y.facing.z * -wz[j] > 0.0;
-      fr[j] = select(front, f.r, 0.0);
-      fg[j] = select(front, f.g, 0.0);
-      fb[j] = select(front, f.b, 0.0);
+      fr[j] = lane_select(front, f.r, 0.0);
+      fg[j] = lane_select(front, f.g, 0.0);
+      fb[j] = lane_select(front, f.b, 0.0);
     }
   } else {
     for (std::size_t j = 0; j < n; ++j) {
@@ -86,11 +77,11 @@ inline double select(bool c, double a, double b) {
     const bool black = (red == 0.0) & (green == 0.0) & (blue == 0.0);
     const bool keep = segment & !black;
     skipped_zero += static_cast<std::size_t>(segment & black);
-    out.red[j] = select(keep, red, 0.0);
-    out.green[j] = select(keep, green, 0.0);
-    out.blue[j] = select(keep, blue, 0.0);
-    out.distance_squared[j] = select(keep, out.distance_squared[j], 0.0);
-    out.distance[j] = select(keep, out.distance[j], 0.0);
+    out.red[j] = lane_select(keep, red, 0.0);
+    out.green[j] = lane_select(keep, green, 0.0);
+    out.blue[j] = lane_select(keep, blue, 0.0);
+    out.distance_squared[j] = lane_select(keep, out.distance_squared[j], 0.0);
+    out.distance[j] = lane_select(keep, out.distance[j], 0.0);
   }
   return skipped_zero;
 }
