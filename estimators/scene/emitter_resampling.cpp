@@ -7,51 +7,65 @@
 
 namespace pcbench::scene {
 
+namespace {
+
+// The visible target: the values whose shadow rays are blocked set to zero, the rays traced as
+// packets (Scene::occluded_many) a packet's width at a time (a local array of a whole batch's
+// rays was zeroed on every call), counted as connect() counts them; none traced in a convex
+// enclosure, where nothing blocks a nonzero value.
+void occlude(const Scene& scene, const NextEventValues& values, const EmitterPoints& points,
+             NextEventValueLanes& at, TraceCounters& counters) {
+  constexpr std::uint32_t kChunk = 16;
+  const bool traces = !scene.traits().convex_enclosure;
+  for (std::uint32_t first = 0; first < points.size; first += kChunk) {
+    const std::uint32_t end = std::min<std::uint32_t>(first + kChunk, points.size);
+    Scene::ShadowRay rays[kChunk];
+    std::uint32_t ray_of[kChunk];
+    std::uint8_t blocked[kChunk];
+    std::uint32_t shadowed = 0;
+    for (std::uint32_t j = first; j < end; ++j) {
+      if (at[j].value.is_black()) continue;
+      if (!traces) {
+        ++counters.skipped_convex;
+        continue;
+      }
+      rays[shadowed] = scene.shadow_ray(points[j].position, values.camera_end().position,
+                                        at.distance_squared[j], at.distance[j]);
+      ray_of[shadowed++] = j;
+    }
+    if (shadowed == 0) continue;
+    if (shadowed == 1) {
+      blocked[0] = scene.occluded(rays[0]) ? 1 : 0;
+    } else {
+      scene.occluded_many(std::span(rays, shadowed), std::span(blocked, shadowed));
+    }
+    counters.shadow_rays += shadowed;
+    for (std::uint32_t k = 0; k < shadowed; ++k) {
+      if (!blocked[k]) continue;
+      ++counters.occluded;
+      at.red[ray_of[k]] = at.green[ray_of[k]] = at.blue[ray_of[k]] = 0.0;
+    }
+  }
+}
+
+}  // namespace
+
 EmitterTargetValue emitter_target(const RenderServices& services, const PathVertex& x,
                                   std::span<const PathVertex> camera, EmitterTarget target,
                                   TraceCounters& counters) {
   // Without the MIS weight: a balance heuristic per candidate would cost more than the rest of
   // the candidate, and p̂ only needs to be > 0 wherever the weighted f is.
-  const Rgb value = services.connect(
-      std::span(&x, 1), camera,
-      {.visibility = target == EmitterTarget::kVisible, .weighted = false}, counters);
+  const Scene& scene = services.scene();
+  const NextEventValues values(scene, camera, services.counts());
+  EmitterPoints point;
+  point.size = 1;
+  point.set(0, emitter_point(scene, x));
+  NextEventValueLanes at;
+  values.values(point, at, counters);
+  if (target == EmitterTarget::kVisible) occlude(scene, values, point, at, counters);
+  const Rgb value = at[0].value;
   return {value, value.max_channel() * x.pdf_fwd};
 }
-
-namespace {
-
-// The visible target: the values whose shadow rays are blocked set to zero, the rays traced as
-// packets (Scene::occluded_many), counted as connect() counts them; none traced in a convex
-// enclosure, where nothing blocks a nonzero value.
-void occlude(const Scene& scene, const NextEventValues& values, const EmitterPoints& points,
-             NextEventValueLanes& at, TraceCounters& counters) {
-  constexpr std::size_t kBatch = EmitterPoints::kCapacity;
-  Scene::ShadowRay rays[kBatch];
-  std::uint32_t ray_of[kBatch];
-  std::uint8_t blocked[kBatch];
-  std::uint32_t shadowed = 0;
-  const bool traces = !scene.traits().convex_enclosure;
-  for (std::uint32_t j = 0; j < points.size; ++j) {
-    if (at[j].value.is_black()) continue;
-    if (!traces) {
-      ++counters.skipped_convex;
-      continue;
-    }
-    rays[shadowed] = scene.shadow_ray(points[j].position, values.camera_end().position,
-                                      at.distance_squared[j], at.distance[j]);
-    ray_of[shadowed++] = j;
-  }
-  if (shadowed == 0) return;
-  scene.occluded_many(std::span(rays, shadowed), std::span(blocked, shadowed));
-  counters.shadow_rays += shadowed;
-  for (std::uint32_t k = 0; k < shadowed; ++k) {
-    if (!blocked[k]) continue;
-    ++counters.occluded;
-    at.red[ray_of[k]] = at.green[ray_of[k]] = at.blue[ray_of[k]] = 0.0;
-  }
-}
-
-}  // namespace
 
 EmitterSample resample_emitters(const RenderServices& services, CameraPrefix& prefix,
                                 std::uint32_t candidates, EmitterTarget target) {

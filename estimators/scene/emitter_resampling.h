@@ -31,6 +31,8 @@ struct EmitterTargetValue {
   double density = 0.0;  // p̂(x) = value's largest channel × q(x)
 };
 
+// p̂ at `camera` of x, a vertex emitter_vertex made (as every EmitterSample's point is):
+// NextEventValues' value with the target's visibility.
 EmitterTargetValue emitter_target(const RenderServices& services, const PathVertex& x,
                                   std::span<const PathVertex> camera, EmitterTarget target,
                                   TraceCounters& counters);

@@ -116,6 +116,16 @@ PathVertex emitter_vertex(const EmitterPoint& e) {
           .point_light = e.point_light};
 }
 
+EmitterPoint emitter_point(const Scene& scene, const PathVertex& v) {
+  return {.position = v.position,
+          .normal = v.normal,
+          .radiance = v.point_light ? scene.description().point_lights[v.triangle].intensity
+                                    : scene.triangle(v.triangle).emission,
+          .pdf_area = v.pdf_fwd,
+          .point_light = v.point_light,
+          .index = v.triangle};
+}
+
 std::optional<Walk> start_light_path(const Scene& scene, RandomStream& rng,
                                      std::uint32_t max_length, std::vector<PathVertex>& path,
                                      TraceCounters& counters) {

@@ -95,6 +95,8 @@ void trace_light_path(const Scene& scene, RandomStream& rng, std::uint32_t max_l
 PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng);
 // The vertex of emitter point `e` (what sample_emitter_vertex makes of the point it samples).
 PathVertex emitter_vertex(const EmitterPoint& e);
+// The emitter point of a vertex emitter_vertex made: emitter_vertex(emitter_point(scene, v)) is v.
+EmitterPoint emitter_point(const Scene& scene, const PathVertex& v);
 
 // Solid-angle density of emission from emitter point v in unit direction w: cosine-weighted
 // into the front of a triangle, uniform for a point light.
