@@ -14,7 +14,7 @@ Vec3 triangle_normal(const Triangle& t) {
 }
 
 Emitters::Emitters(const SceneDescription& scene)
-    : scene_(scene), triangle_pdf_area_(scene.triangles.size(), 0.0) {
+    : triangle_pdf_area_(scene.triangles.size(), 0.0) {
   double total = 0.0;
   for (std::uint32_t i = 0; i < scene.triangles.size(); ++i) {
     const Triangle& t = scene.triangles[i];

@@ -102,7 +102,6 @@ class Emitters {
  private:
   static constexpr std::size_t kWindow = 8;
 
-  const SceneDescription& scene_;
   std::vector<Entry> entries_;
   std::vector<double> cdf_;
   std::vector<double> padded_cdf_;  // cdf_ and kWindow infinities, which no u_select reaches
