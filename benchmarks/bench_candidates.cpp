@@ -1,9 +1,11 @@
 // The cost of one resampling candidate on a scene (issue 37, "candidates at arithmetic cost"):
 // resample_emitters (estimators/scene/emitter_resampling.h) at the camera prefixes of 64 pixels'
-// subpaths on many-lights, 16 candidates each, with the unshadowed target (no shadow ray) and
-// the visible one (a shadow ray per candidate). items_per_second counts candidates, so its
-// inverse is the CPU time of one: an emitter point from three uniforms, its target value, the
-// reservoir's step. The camera subpaths are traced outside the timed loop. One thread.
+// subpaths on many-lights, M candidates each (the benchmark's argument: 16, ris's default, and 4,
+// which with 16 separates a candidate's own cost from what a resampling step costs once), with
+// the unshadowed target (no shadow ray) and the visible one (a shadow ray per candidate).
+// items_per_second counts candidates, so its inverse is the CPU time of one: an emitter point from
+// three uniforms, its target value, the reservoir's step. The camera subpaths are traced outside
+// the timed loop. One thread.
 #include <benchmark/benchmark.h>
 
 #include <memory>
@@ -23,16 +25,15 @@ namespace {
 
 constexpr std::uint32_t kResolution = 32;
 constexpr std::uint32_t kPixels = 64;
-constexpr std::uint32_t kCandidates = 16;
-
 void BM_EmitterCandidate(benchmark::State& state, EmitterTarget target) {
+  const auto candidates = static_cast<std::uint32_t>(state.range(0));
   auto description = built_in_scene("many-lights");
   if (!description) throw std::runtime_error("no built-in scene many-lights");
   description->width = kResolution;
   description->height = kResolution;
   const Scene scene(std::move(*description));
   const std::uint32_t max_length = scene.description().max_length;
-  const StrategyCounts counts = next_event_counts(kCandidates);
+  const StrategyCounts counts = next_event_counts(candidates);
   const RenderServices services(scene, counts, 5, 0, nullptr);
 
   std::vector<std::vector<PathVertex>> paths(kPixels);
@@ -65,17 +66,17 @@ void BM_EmitterCandidate(benchmark::State& state, EmitterTarget target) {
                         .camera = camera,
                         .draws = draws,
                         .counters = counters};
-    const EmitterSample kept = resample_emitters(services, prefix, kCandidates, target);
+    const EmitterSample kept = resample_emitters(services, prefix, candidates, target);
     benchmark::DoNotOptimize(kept.contribution_weight);
     if (++i == prefixes.size()) i = 0;
   }
-  state.SetItemsProcessed(state.iterations() * kCandidates);
+  state.SetItemsProcessed(state.iterations() * candidates);
   state.counters["shadow_rays_per_candidate"] =
       static_cast<double>(counters.shadow_rays) /
-      static_cast<double>(state.iterations() * kCandidates);
+      static_cast<double>(state.iterations() * candidates);
 }
-BENCHMARK_CAPTURE(BM_EmitterCandidate, unshadowed, EmitterTarget::kUnshadowed);
-BENCHMARK_CAPTURE(BM_EmitterCandidate, visible, EmitterTarget::kVisible);
+BENCHMARK_CAPTURE(BM_EmitterCandidate, unshadowed, EmitterTarget::kUnshadowed)->Arg(16)->Arg(4);
+BENCHMARK_CAPTURE(BM_EmitterCandidate, visible, EmitterTarget::kVisible)->Arg(16)->Arg(4);
 
 }  // namespace
 }  // namespace pcbench::scene
