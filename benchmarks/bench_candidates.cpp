@@ -25,6 +25,7 @@ namespace {
 
 constexpr std::uint32_t kResolution = 32;
 constexpr std::uint32_t kPixels = 64;
+
 void BM_EmitterCandidate(benchmark::State& state, EmitterTarget target) {
   const auto candidates = static_cast<std::uint32_t>(state.range(0));
   auto description = built_in_scene("many-lights");
