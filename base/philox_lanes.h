@@ -16,5 +16,8 @@ bool philox_lanes_supported(PhiloxLanes lanes);
 // philox4x32_10_many computed with `lanes` (which must be supported).
 void philox4x32_10_many_with(PhiloxLanes lanes, std::span<const PhiloxCounter> counters,
                              PhiloxKey key, std::span<PhiloxCounter> out);
+// philox4x32_10_consecutive computed with `lanes` (which must be supported).
+void philox4x32_10_consecutive_with(PhiloxLanes lanes, const PhiloxCounter& first, PhiloxKey key,
+                                    std::span<PhiloxCounter> out);
 
 }  // namespace pcbench

@@ -50,8 +50,10 @@ namespace {
 // products' garbage, which vpmuludq ignores; only the low halves are kept at the end. Four
 // vectors are in flight (16 lanes) so that the multiplier's latency is hidden.
 constexpr std::size_t kSlots = 4;
-constexpr std::size_t kVectors = 2;
-constexpr std::size_t kLanes = kSlots * kVectors;
+constexpr std::size_t kVectorsInFlight = 2;
+// A tail this short is computed one block at a time (BM_PhiloxTail: below it a padded vector
+// costs more than the blocks one by one).
+constexpr std::size_t kScalarTail = 4;
 
 // Four counters' words into four vectors of one word each (a 4×4 transpose of 64-bit slots), and
 // back: the transpose is its own inverse.
@@ -64,7 +66,8 @@ constexpr std::size_t kLanes = kSlots * kVectors;
   d = _mm256_permute2x128_si256(t1, t3, 0x31);
 }
 
-// kLanes full counters (the caller pads a short group).
+// kSlots × vectors full counters (the caller pads a short group).
+template <std::size_t kVectors>
 [[gnu::target("avx2")]] void philox_lanes_avx2(const PhiloxCounter* in, PhiloxKey k,
                                                PhiloxCounter* out) {
   __m256i c[4][kVectors];
@@ -107,22 +110,11 @@ constexpr std::size_t kLanes = kSlots * kVectors;
 // whole 512-bit rows rather than AVX2's widening loads and 4×4 transposes: 2.1 against 6.5 ns a
 // block, side by side on this machine's AMD EPYC (docs/findings/speed.md, "The generator").
 constexpr std::size_t kSlots512 = 8;
-constexpr std::size_t kLanes512 = kSlots512 * kVectors;
 
-[[gnu::target("avx512f")]] void philox_lanes_avx512(const PhiloxCounter* in, PhiloxKey k,
-                                                    PhiloxCounter* out) {
-  __m512i c[4][kVectors];
-  for (std::size_t v = 0; v < kVectors; ++v) {
-    // Lanes 0-3 in `a`, 4-7 in `b`: word w of lane l is element 4l + w of the pair (b from 16).
-    const __m512i a = _mm512_loadu_si512(in[v * kSlots512].data());
-    const __m512i b = _mm512_loadu_si512(in[v * kSlots512 + 4].data());
-    for (int w = 0; w < 4; ++w) {
-      // Into the low half of slot l; the high halves are don't-cares, as in the AVX2 lanes.
-      const __m512i words = _mm512_setr_epi32(w, 0, w + 4, 0, w + 8, 0, w + 12, 0, w + 16, 0,
-                                              w + 20, 0, w + 24, 0, w + 28, 0);
-      c[w][v] = _mm512_permutex2var_epi32(a, words, b);
-    }
-  }
+// Ten rounds on kVectors vectors of eight lanes, word w of lane l in the low half of slot l of
+// c[w][v]; the high halves are don't-cares, as in the AVX2 lanes.
+template <std::size_t kVectors>
+[[gnu::target("avx512f")]] inline void rounds_avx512(__m512i (&c)[4][kVectors], PhiloxKey k) {
   // The zero-masked forms with every slot kept: the same instructions, and GCC 12's plain forms
   // start from an "undefined" vector that -Wuninitialized reports (GCC bug 105593).
   constexpr __mmask8 kAll = 0xFF;
@@ -141,8 +133,13 @@ constexpr std::size_t kLanes512 = kSlots512 * kVectors;
     k[0] += kWeyl0;
     k[1] += kWeyl1;
   }
-  // Back: (word 0, word 1) and (word 2, word 3) of each lane as 64-bit pairs, then each lane's
-  // two pairs side by side.
+}
+
+// The lanes' blocks into out[0 .. 8 kVectors): (word 0, word 1) and (word 2, word 3) of each lane
+// as 64-bit pairs, then each lane's two pairs side by side.
+template <std::size_t kVectors>
+[[gnu::target("avx512f")]] inline void store_avx512(const __m512i (&c)[4][kVectors],
+                                                    PhiloxCounter* out) {
   const __m512i pairs =
       _mm512_setr_epi32(0, 16, 2, 18, 4, 20, 6, 22, 8, 24, 10, 26, 12, 28, 14, 30);
   const __m512i lanes_0_3 = _mm512_setr_epi64(0, 8, 1, 9, 2, 10, 3, 11);
@@ -156,21 +153,69 @@ constexpr std::size_t kLanes512 = kSlots512 * kVectors;
   }
 }
 
-// The blocks of `counters` a full group of `lanes` at a time, and the rest padded to one group.
-template <std::size_t lanes, class Lanes>
+template <std::size_t kVectors>
+[[gnu::target("avx512f")]] void philox_lanes_avx512(const PhiloxCounter* in, PhiloxKey k,
+                                                    PhiloxCounter* out) {
+  __m512i c[4][kVectors];
+  for (std::size_t v = 0; v < kVectors; ++v) {
+    // Lanes 0-3 in `a`, 4-7 in `b`: word w of lane l is element 4l + w of the pair (b from 16).
+    const __m512i a = _mm512_loadu_si512(in[v * kSlots512].data());
+    const __m512i b = _mm512_loadu_si512(in[v * kSlots512 + 4].data());
+    for (int w = 0; w < 4; ++w) {
+      // Into the low half of slot l.
+      const __m512i words = _mm512_setr_epi32(w, 0, w + 4, 0, w + 8, 0, w + 12, 0, w + 16, 0,
+                                              w + 20, 0, w + 24, 0, w + 28, 0);
+      c[w][v] = _mm512_permutex2var_epi32(a, words, b);
+    }
+  }
+  rounds_avx512(c, k);
+  store_avx512(c, out);
+}
+
+// The blocks of 8 kVectors consecutive counters from `first` (word 0 counting up): the lanes set
+// up in registers, without the counters' array, its loads and permutes, or a padded copy, which
+// for a stream's few blocks cost as much as their rounds.
+template <std::size_t kVectors>
+[[gnu::target("avx512f")]] void philox_consecutive_avx512(const PhiloxCounter& first,
+                                                          PhiloxKey k, PhiloxCounter* out) {
+  __m512i c[4][kVectors];
+  for (std::size_t v = 0; v < kVectors; ++v) {
+    // Word 0 steps in the low half, wrapping there as ++counter[0] wraps.
+    const auto lane = static_cast<std::int64_t>(v * kSlots512);
+    c[0][v] = _mm512_add_epi64(_mm512_set1_epi64(first[0]),
+                               _mm512_setr_epi64(lane, lane + 1, lane + 2, lane + 3, lane + 4,
+                                                 lane + 5, lane + 6, lane + 7));
+    for (std::size_t w = 1; w < 4; ++w) c[w][v] = _mm512_set1_epi64(first[w]);
+  }
+  rounds_avx512(c, k);
+  store_avx512(c, out);
+}
+
+// The blocks of `counters` a full group at a time (`slots` lanes to a vector, kVectorsInFlight
+// vectors), and the tail at the narrowest width that holds it: one vector padded, or one block
+// at a time when it is that short. A resampling step asks for a few blocks at a time (three
+// uniforms a candidate, one per acceptance), and padding those to a whole group computed up to
+// eight times the blocks it read (a third of a candidate at M = 4, docs/findings/candidates.md).
+template <std::size_t slots, class Full, class Half>
 void philox_groups(std::span<const PhiloxCounter> counters, PhiloxKey key,
-                   std::span<PhiloxCounter> out, Lanes&& compute) {
+                   std::span<PhiloxCounter> out, Full&& full, Half&& half) {
+  constexpr std::size_t lanes = slots * kVectorsInFlight;
   std::size_t i = 0;
-  for (; i + lanes <= counters.size(); i += lanes) {
-    compute(counters.data() + i, key, out.data() + i);
+  for (; i + lanes <= counters.size(); i += lanes) full(counters.data() + i, key, out.data() + i);
+  const std::size_t tail = counters.size() - i;
+  if (tail == 0) return;
+  if (tail <= kScalarTail) {
+    for (; i < counters.size(); ++i) out[i] = philox4x32_10(counters[i], key);
+    return;
   }
-  if (i < counters.size()) {
-    PhiloxCounter in_padded[lanes] = {}, out_padded[lanes];
-    std::copy(counters.begin() + static_cast<std::ptrdiff_t>(i), counters.end(), in_padded);
-    compute(in_padded, key, out_padded);
-    std::copy(out_padded, out_padded + (counters.size() - i),
-              out.begin() + static_cast<std::ptrdiff_t>(i));
+  PhiloxCounter in_padded[lanes] = {}, out_padded[lanes];
+  std::copy(counters.begin() + static_cast<std::ptrdiff_t>(i), counters.end(), in_padded);
+  if (tail <= slots) {
+    half(in_padded, key, out_padded);
+  } else {
+    full(in_padded, key, out_padded);
   }
+  std::copy(out_padded, out_padded + tail, out.begin() + static_cast<std::ptrdiff_t>(i));
 }
 
 }  // namespace
@@ -191,10 +236,12 @@ void philox4x32_10_many_with(PhiloxLanes lanes, std::span<const PhiloxCounter> c
                              PhiloxKey key, std::span<PhiloxCounter> out) {
   switch (lanes) {
     case PhiloxLanes::kAvx512:
-      philox_groups<kLanes512>(counters, key, out, philox_lanes_avx512);
+      philox_groups<kSlots512>(counters, key, out, philox_lanes_avx512<kVectorsInFlight>,
+                               philox_lanes_avx512<1>);
       return;
     case PhiloxLanes::kAvx2:
-      philox_groups<kLanes>(counters, key, out, philox_lanes_avx2);
+      philox_groups<kSlots>(counters, key, out, philox_lanes_avx2<kVectorsInFlight>,
+                            philox_lanes_avx2<1>);
       return;
     case PhiloxLanes::kScalar:
       break;
@@ -202,14 +249,63 @@ void philox4x32_10_many_with(PhiloxLanes lanes, std::span<const PhiloxCounter> c
   for (std::size_t i = 0; i < counters.size(); ++i) out[i] = philox4x32_10(counters[i], key);
 }
 
-void philox4x32_10_many(std::span<const PhiloxCounter> counters, PhiloxKey key,
-                        std::span<PhiloxCounter> out) {
-  // Checked once: the widest of AVX-512, AVX2 and one block at a time (the same bits).
+void philox4x32_10_consecutive_with(PhiloxLanes lanes, const PhiloxCounter& first, PhiloxKey key,
+                                    std::span<PhiloxCounter> out) {
+  const auto counter = [&first](std::size_t i) {
+    PhiloxCounter c = first;
+    c[0] += static_cast<std::uint32_t>(i);
+    return c;
+  };
+  if (lanes != PhiloxLanes::kAvx512) {
+    // AVX2's lanes widen and transpose loaded counters anyway: the many path, a chunk at a time.
+    constexpr std::size_t kChunk = 32;
+    PhiloxCounter counters[kChunk];
+    for (std::size_t i = 0; i < out.size(); i += kChunk) {
+      const std::size_t n = std::min(kChunk, out.size() - i);
+      for (std::size_t j = 0; j < n; ++j) counters[j] = counter(i + j);
+      philox4x32_10_many_with(lanes, std::span(counters, n), key, out.subspan(i, n));
+    }
+    return;
+  }
+  constexpr std::size_t lanes512 = kSlots512 * kVectorsInFlight;
+  std::size_t i = 0;
+  for (; i + lanes512 <= out.size(); i += lanes512) {
+    philox_consecutive_avx512<kVectorsInFlight>(counter(i), key, out.data() + i);
+  }
+  const std::size_t tail = out.size() - i;
+  if (tail == 0) return;
+  if (tail <= kScalarTail) {
+    for (; i < out.size(); ++i) out[i] = philox4x32_10(counter(i), key);
+    return;
+  }
+  PhiloxCounter padded[lanes512];
+  if (tail <= kSlots512) {
+    philox_consecutive_avx512<1>(counter(i), key, padded);
+  } else {
+    philox_consecutive_avx512<kVectorsInFlight>(counter(i), key, padded);
+  }
+  std::copy(padded, padded + tail, out.begin() + static_cast<std::ptrdiff_t>(i));
+}
+
+namespace {
+// Checked once: the widest of AVX-512, AVX2 and one block at a time (the same bits).
+PhiloxLanes widest_lanes() {
   static const PhiloxLanes widest =
       philox_lanes_supported(PhiloxLanes::kAvx512) ? PhiloxLanes::kAvx512
       : philox_lanes_supported(PhiloxLanes::kAvx2) ? PhiloxLanes::kAvx2
                                                    : PhiloxLanes::kScalar;
-  philox4x32_10_many_with(widest, counters, key, out);
+  return widest;
+}
+}  // namespace
+
+void philox4x32_10_consecutive(const PhiloxCounter& first, PhiloxKey key,
+                               std::span<PhiloxCounter> out) {
+  philox4x32_10_consecutive_with(widest_lanes(), first, key, out);
+}
+
+void philox4x32_10_many(std::span<const PhiloxCounter> counters, PhiloxKey key,
+                        std::span<PhiloxCounter> out) {
+  philox4x32_10_many_with(widest_lanes(), counters, key, out);
 }
 
 std::uint64_t run_key(std::uint64_t seed, std::uint64_t run_id_hash) {
@@ -225,21 +321,15 @@ void RandomStream::refill() {
 void RandomStream::uniforms(std::span<double> out) {
   std::size_t i = 0;
   while (i < out.size() && next_ <= 2) out[i++] = uniform();  // what is left of this block
-  // Whole blocks, a group at a time; the last one stays the stream's block, its words read as
-  // far as uniform() would have read them.
+  // Whole blocks, a group at a time (consecutive counters: the lanes set them up themselves);
+  // the last one stays the stream's block, its words read as far as uniform() would have read
+  // them.
   constexpr std::size_t kGroup = 32;
-  PhiloxCounter counters[kGroup], blocks[kGroup];
+  PhiloxCounter blocks[kGroup];
   while (i < out.size()) {
     const std::size_t group = std::min(kGroup, (out.size() - i + 1) / 2);
-    // The counter stepped in a local: stepping the member and copying it whole each time made
-    // every copy wait on the step's store (a failed store-to-load forward), 10% of a candidate.
-    PhiloxCounter next = counter_;
-    for (std::size_t g = 0; g < group; ++g) {
-      counters[g] = next;
-      ++next[0];
-    }
-    counter_ = next;
-    philox4x32_10_many(std::span(counters, group), key_, std::span(blocks, group));
+    philox4x32_10_consecutive(counter_, key_, std::span(blocks, group));
+    counter_[0] += static_cast<std::uint32_t>(group);
     for (std::size_t g = 0; g < group; ++g) {
       block_ = blocks[g];
       for (next_ = 0; next_ <= 2 && i < out.size(); next_ += 2)

@@ -66,6 +66,29 @@ BENCHMARK_CAPTURE(BM_PhiloxManyLanes, scalar, PhiloxLanes::kScalar);
 BENCHMARK_CAPTURE(BM_PhiloxManyLanes, avx2, PhiloxLanes::kAvx2);
 BENCHMARK_CAPTURE(BM_PhiloxManyLanes, avx512, PhiloxLanes::kAvx512);
 
+// A few blocks at a time, as a resampling step's uniforms ask for them (RandomStream::uniforms:
+// three uniforms a candidate, one per acceptance), each way side by side: where the padded
+// tail of a group stops paying against one block at a time (kScalarTail in base/rng.cpp).
+void BM_PhiloxFew(benchmark::State& state, PhiloxLanes lanes) {
+  if (!philox_lanes_supported(lanes)) {
+    state.SkipWithError("not supported on this CPU");
+    return;
+  }
+  const auto n = static_cast<std::size_t>(state.range(0));
+  std::vector<PhiloxCounter> counters(n), out(n);
+  std::uint32_t sample = 0;
+  for (auto _ : state) {
+    for (std::uint32_t j = 0; j < n; ++j) counters[j] = {j, 7, sample, 0x01000000u};
+    philox4x32_10_many_with(lanes, counters, {0x12345678u, 0x9ABCDEF0u}, out);
+    benchmark::DoNotOptimize(out.data());
+    ++sample;
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
+}
+BENCHMARK_CAPTURE(BM_PhiloxFew, scalar, PhiloxLanes::kScalar)->DenseRange(1, 4)->Arg(8);
+BENCHMARK_CAPTURE(BM_PhiloxFew, avx2, PhiloxLanes::kAvx2)->DenseRange(1, 4)->Arg(8);
+BENCHMARK_CAPTURE(BM_PhiloxFew, avx512, PhiloxLanes::kAvx512)->DenseRange(1, 4)->Arg(8)->Arg(12);
+
 void BM_UniformDouble(benchmark::State& state) {
   RandomStream rng({.key = 1});
   for (auto _ : state) benchmark::DoNotOptimize(rng.uniform());

@@ -45,6 +45,33 @@ TEST(RngPhilox, ManyMatchesOneByOne) {
   }
 }
 
+// Consecutive counters' blocks are each counter's block, for every count up to past two groups
+// (each tail width: one block at a time, one vector, two) and across word 0's wrap.
+TEST(RngPhilox, ConsecutiveMatchesOneByOne) {
+  const PhiloxKey key{0x3c6ef372u, 0xa54ff53au};
+  for (const std::uint32_t start : {0u, 0xfffffff5u}) {
+    const PhiloxCounter first{start, 17u, 0x0badf00du, 0x03000005u};
+    for (std::size_t n = 0; n <= 40; ++n) {
+      std::vector<PhiloxCounter> expected(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        PhiloxCounter c = first;
+        c[0] += static_cast<std::uint32_t>(i);
+        expected[i] = philox4x32_10(c, key);
+      }
+      std::vector<PhiloxCounter> out(n);
+      philox4x32_10_consecutive(first, key, out);
+      EXPECT_EQ(out, expected) << "n = " << n << ", start " << start;
+      for (const PhiloxLanes lanes :
+           {PhiloxLanes::kScalar, PhiloxLanes::kAvx2, PhiloxLanes::kAvx512}) {
+        if (!philox_lanes_supported(lanes)) continue;
+        std::vector<PhiloxCounter> with(n);
+        philox4x32_10_consecutive_with(lanes, first, key, with);
+        EXPECT_EQ(with, expected) << "lanes " << static_cast<int>(lanes) << ", n = " << n;
+      }
+    }
+  }
+}
+
 // Every way this machine has ran above: say which, so that a log shows what was covered.
 TEST(RngPhilox, LanesThisMachineHas) {
   EXPECT_TRUE(philox_lanes_supported(PhiloxLanes::kScalar));
@@ -95,7 +122,7 @@ TEST(RngStream, BulkUniformsAreTheOneByOneNumbers) {
   const StreamId id{
       .key = 0x5eed, .replicate = 2, .purpose = StreamPurpose::kCameraPath, .sample = 4, .path = 1};
   for (int lead = 0; lead < 4; ++lead) {
-    for (std::size_t count : {0u, 1u, 2u, 3u, 7u, 63u, 64u, 65u, 200u}) {
+    for (std::size_t count : {0u, 1u, 2u, 3u, 7u, 9u, 11u, 17u, 25u, 33u, 63u, 64u, 65u, 200u}) {
       RandomStream bulk(id), one(id);
       for (int k = 0; k < lead; ++k) {  // single words shift the position by one
         EXPECT_EQ(bulk.uniform_index(97), one.uniform_index(97));
