@@ -176,8 +176,8 @@ template <std::size_t kVectors>
 // up in registers, without the counters' array, its loads and permutes, or a padded copy, which
 // for a stream's few blocks cost as much as their rounds.
 template <std::size_t kVectors>
-[[gnu::target("avx512f")]] void philox_consecutive_avx512(const PhiloxCounter& first,
-                                                          PhiloxKey k, PhiloxCounter* out) {
+[[gnu::target("avx512f")]] void philox_consecutive_avx512(const PhiloxCounter& first, PhiloxKey k,
+                                                          PhiloxCounter* out) {
   __m512i c[4][kVectors];
   for (std::size_t v = 0; v < kVectors; ++v) {
     // Word 0 steps in the low half, wrapping there as ++counter[0] wraps.
