@@ -37,25 +37,32 @@ class Reservoir {
   }
   // offer() for candidates first, first + 1, … of `weights`, in order: the same choices from
   // the same numbers, the uniforms the acceptances need (one for each 0 < a < 1) read from `rng`
-  // kBatch candidates at a time (RandomStream::uniforms).
+  // kBatch candidates at a time (RandomStream::uniforms), and no branch on a candidate (each
+  // u < a is a coin flip a branch would mispredict half the time).
   static constexpr std::size_t kBatch = 64;
   void offer_all(std::uint32_t first, std::span<const double> weights, RandomStream& rng) {
     for (std::size_t start = 0; start < weights.size(); start += kBatch) {
       const std::size_t n = std::min(kBatch, weights.size() - start);
-      double accept[kBatch], u[kBatch];
+      double accept[kBatch], u[kBatch + 1];
       std::size_t draws = 0;
       for (std::size_t j = 0; j < n; ++j) {
         accept[j] = acceptance(weights[start + j]);
-        if (accept[j] > 0.0 && accept[j] < 1.0) ++draws;
+        draws += static_cast<std::size_t>((accept[j] > 0.0) & (accept[j] < 1.0));
       }
       rng.uniforms(std::span(u, draws));
+      u[draws] = 1.0;  // read by the candidates after the last draw, and never used
       std::size_t k = 0;
+      std::uint32_t kept = kept_;
       for (std::size_t j = 0; j < n; ++j) {
         const double a = accept[j];
-        if (a >= 1.0 || (a > 0.0 && u[k++] < a)) {
-          kept_ = first + static_cast<std::uint32_t>(start + j);
-        }
+        const bool draws_one = (a > 0.0) & (a < 1.0);
+        const bool take = (a >= 1.0) | (draws_one & (u[k] < a));
+        // A select on the bits: written as a ternary, GCC branched on `take`.
+        const std::uint32_t mask = 0u - static_cast<std::uint32_t>(take);
+        kept ^= (kept ^ (first + static_cast<std::uint32_t>(start + j))) & mask;
+        k += static_cast<std::size_t>(draws_one);
       }
+      kept_ = kept;
     }
   }
   void keep(std::uint32_t j) { kept_ = j; }

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <utility>
 #include <vector>
@@ -584,6 +585,42 @@ TEST(SceneSamplingEmitters, EntryForIsUpperBound) {
       mismatches += emitters.entry_for(u) != want;
     }
     EXPECT_EQ(mismatches, 0u) << d.name << ": " << us.size() << " values of u";
+  }
+}
+
+// A batch of points is sample()'s points one by one, to the bit, on every built-in scene and on
+// cornell with two point lights added, for a batch of every size up to the capacity.
+TEST(SceneSamplingEmitters, SampleManyIsSampleOneByOne) {
+  std::vector<SceneDescription> scenes;
+  for (const std::string& name : built_in_scene_names()) scenes.push_back(*built_in_scene(name));
+  SceneDescription lit = *built_in_scene("cornell");
+  lit.name = "cornell with point lights";
+  lit.point_lights.push_back({{0.1, 0.5, -0.2}, Rgb{2.0, 1.0, 0.5}});
+  lit.point_lights.push_back({{-0.0, 0.2, 0.4}, Rgb{0.5, 0.5, 3.0}});  // -0 + 0 would be +0
+  scenes.push_back(lit);
+  for (const SceneDescription& d : scenes) {
+    const std::string& name = d.name;
+    const Scene scene(d);
+    const Emitters& emitters = scene.emitters();
+    if (emitters.empty()) continue;
+    RandomStream rng({.key = 11, .purpose = StreamPurpose::kCameraPath});
+    for (std::size_t n = 1; n <= EmitterPoints::kCapacity; ++n) {
+      std::vector<double> u(3 * n);
+      rng.uniforms(u);
+      EmitterPoints many;
+      emitters.sample_many(u, many);
+      ASSERT_EQ(many.size, n);
+      for (std::size_t j = 0; j < n; ++j) {
+        const EmitterPoint want = emitters.sample(u[3 * j], u[3 * j + 1], u[3 * j + 2]);
+        const EmitterPoint got = many[j];
+        EXPECT_EQ(std::memcmp(&got.position, &want.position, sizeof(Vec3)), 0) << name << " " << j;
+        EXPECT_EQ(std::memcmp(&got.normal, &want.normal, sizeof(Vec3)), 0) << name << " " << j;
+        EXPECT_EQ(std::memcmp(&got.radiance, &want.radiance, sizeof(Rgb)), 0) << name << " " << j;
+        EXPECT_EQ(got.pdf_area, want.pdf_area) << name << " " << j;
+        EXPECT_EQ(got.point_light, want.point_light) << name << " " << j;
+        EXPECT_EQ(got.index, want.index) << name << " " << j;
+      }
+    }
   }
 }
 

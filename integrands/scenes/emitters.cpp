@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "base/lane_select.h"
+
 namespace pcbench::scene {
 
 double triangle_area(const Triangle& t) {
@@ -123,8 +125,32 @@ EmitterPoint Emitters::sample(double u_select, double u1, double u2) const {
 
 void Emitters::sample_many(std::span<const double> u, EmitterPoints& out) const {
   out.size = u.size() / 3;
+  // The entries first, then the points: the choices are independent of each other, and apart
+  // from the rows they load the loops overlap them. point_on's arithmetic without its branches
+  // (the fold of the unit square is a coin flip, mispredicted half the time): a point light's
+  // row has no edges and its position is taken as it is.
+  std::uint32_t chosen[EmitterPoints::kCapacity];
+  const std::size_t last = entries_.size() - 1;
   for (std::size_t j = 0; j < out.size; ++j) {
-    out.set(j, sample(u[3 * j], u[3 * j + 1], u[3 * j + 2]));
+    chosen[j] = static_cast<std::uint32_t>(std::min(entry_for(u[3 * j]), last));
+  }
+  for (std::size_t j = 0; j < out.size; ++j) {
+    const Entry& e = entries_[chosen[j]];
+    const double u1 = u[3 * j + 1], u2 = u[3 * j + 2];
+    const bool fold = u1 + u2 > 1.0;
+    const double a = lane_select(fold, 1.0 - u1, u1), b = lane_select(fold, 1.0 - u2, u2);
+    out.x[j] = lane_select(e.point_light, e.p0.x, e.p0.x + a * e.edge1.x + b * e.edge2.x);
+    out.y[j] = lane_select(e.point_light, e.p0.y, e.p0.y + a * e.edge1.y + b * e.edge2.y);
+    out.z[j] = lane_select(e.point_light, e.p0.z, e.p0.z + a * e.edge1.z + b * e.edge2.z);
+    out.normal_x[j] = e.normal.x;
+    out.normal_y[j] = e.normal.y;
+    out.normal_z[j] = e.normal.z;
+    out.red[j] = e.radiance.r;
+    out.green[j] = e.radiance.g;
+    out.blue[j] = e.radiance.b;
+    out.pdf_area[j] = e.pdf_area;
+    out.point_light[j] = e.point_light ? 1.0 : 0.0;
+    out.index[j] = e.index;
   }
 }
 
