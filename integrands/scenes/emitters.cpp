@@ -82,12 +82,15 @@ std::size_t Emitters::entry_for(double u_select) const {
   const std::size_t first = guide_[b];
   std::size_t below = 0;
   for (std::size_t k = 0; k < kWindow; ++k) below += padded_cdf_[first + k] <= u_select ? 1 : 0;
-  const std::size_t i = first + below;
-  // It does unless the bucket spans more than the window or u_select * buckets rounded across
-  // a bucket's edge: then the search of the whole cdf, so the entry is always upper_bound's.
-  const bool found =
-      (i == 0 || cdf_[i - 1] <= u_select) && (i == cdf_.size() || cdf_[i] > u_select);
-  if (found) return i;
+  // It does when the answer is inside the window (a count short of the window's size: the entry
+  // after the last counted one exceeds u_select) and every entry before the window is at or
+  // below u_select. The guide gave `first` as upper_bound's of the bucket's start b / G, so
+  // those entries are at or below b / G, and b / G <= u_select unless u_select * G rounded up
+  // across a bucket's edge: a test on values the window's loads do not wait for (testing
+  // cdf[first - 1] waited on the count, a quarter of the choice's time). Otherwise the search of
+  // the whole cdf, so the entry is always upper_bound's.
+  const double bucket_start = static_cast<double>(b) / static_cast<double>(buckets);
+  if (below < kWindow && bucket_start <= u_select) return first + below;
   return std::upper_bound(cdf_.begin(), cdf_.end(), u_select) - cdf_.begin();
 }
 
