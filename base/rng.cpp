@@ -51,7 +51,7 @@ namespace {
 // vectors are in flight (16 lanes) so that the multiplier's latency is hidden.
 constexpr std::size_t kSlots = 4;
 constexpr std::size_t kVectorsInFlight = 2;
-// A tail this short is computed one block at a time (BM_PhiloxTail: below it a padded vector
+// A tail this short is computed one block at a time (BM_PhiloxFew: below it a padded vector
 // costs more than the blocks one by one).
 constexpr std::size_t kScalarTail = 4;
 
@@ -172,12 +172,25 @@ template <std::size_t kVectors>
   store_avx512(c, out);
 }
 
-// The blocks of 8 kVectors consecutive counters from `first` (word 0 counting up): the lanes set
-// up in registers, without the counters' array, its loads and permutes, or a padded copy, which
-// for a stream's few blocks cost as much as their rounds.
+// uniform_of's numbers for a word pair of eight lanes, (hi · 2^32 + lo) >> 11 scaled by 2^-53,
+// from two exact conversions of 32-bit halves: hi · 2^21 and lo >> 11 are integers below 2^53
+// and 2^21, so their sum is exact and the same double as the 64-bit integer's (no AVX-512DQ).
+[[gnu::target("avx512f")]] inline __m512d uniforms_of_avx512(__m512i hi, __m512i lo) {
+  constexpr __mmask8 kAll = 0xFF;  // the zero-masked forms, as in rounds_avx512
+  const __m256i hi32 = _mm512_maskz_cvtepi64_epi32(kAll, hi);
+  const __m256i lo21 = _mm256_srli_epi32(_mm512_maskz_cvtepi64_epi32(kAll, lo), 11);
+  const __m512d high = _mm512_mul_pd(_mm512_maskz_cvtepu32_pd(kAll, hi32), _mm512_set1_pd(0x1p21));
+  const __m512d sum = _mm512_add_pd(high, _mm512_maskz_cvtepu32_pd(kAll, lo21));
+  return _mm512_mul_pd(sum, _mm512_set1_pd(0x1p-53));
+}
+
+// The blocks of 8 kVectors consecutive counters from `first` (word 0 counting up), and their
+// uniforms: u[2l] and u[2l + 1] from lane l's words 0-1 and 2-3. The lanes set their counters
+// up in registers, without a counters array, its loads and permutes, or a padded copy, which for
+// a stream's few blocks cost as much as their rounds; the conversions are the lanes' too.
 template <std::size_t kVectors>
-[[gnu::target("avx512f")]] void philox_consecutive_avx512(const PhiloxCounter& first, PhiloxKey k,
-                                                          PhiloxCounter* out) {
+[[gnu::target("avx512f")]] void philox_uniforms_avx512(const PhiloxCounter& first, PhiloxKey k,
+                                                       PhiloxCounter* blocks, double* u) {
   __m512i c[4][kVectors];
   for (std::size_t v = 0; v < kVectors; ++v) {
     // Word 0 steps in the low half, wrapping there as ++counter[0] wraps.
@@ -188,7 +201,15 @@ template <std::size_t kVectors>
     for (std::size_t w = 1; w < 4; ++w) c[w][v] = _mm512_set1_epi64(first[w]);
   }
   rounds_avx512(c, k);
-  store_avx512(c, out);
+  store_avx512(c, blocks);
+  const __m512i first_half = _mm512_setr_epi64(0, 8, 1, 9, 2, 10, 3, 11);
+  const __m512i second_half = _mm512_setr_epi64(4, 12, 5, 13, 6, 14, 7, 15);
+  for (std::size_t v = 0; v < kVectors; ++v) {
+    const __m512d a = uniforms_of_avx512(c[0][v], c[1][v]);
+    const __m512d b = uniforms_of_avx512(c[2][v], c[3][v]);
+    _mm512_storeu_pd(u + 2 * v * kSlots512, _mm512_permutex2var_pd(a, first_half, b));
+    _mm512_storeu_pd(u + 2 * v * kSlots512 + kSlots512, _mm512_permutex2var_pd(a, second_half, b));
+  }
 }
 
 // The blocks of `counters` a full group at a time (`slots` lanes to a vector, kVectorsInFlight
@@ -249,42 +270,49 @@ void philox4x32_10_many_with(PhiloxLanes lanes, std::span<const PhiloxCounter> c
   for (std::size_t i = 0; i < counters.size(); ++i) out[i] = philox4x32_10(counters[i], key);
 }
 
-void philox4x32_10_consecutive_with(PhiloxLanes lanes, const PhiloxCounter& first, PhiloxKey key,
-                                    std::span<PhiloxCounter> out) {
+void philox_uniforms_with(PhiloxLanes lanes, const PhiloxCounter& first, PhiloxKey key,
+                          std::span<PhiloxCounter> blocks, std::span<double> u) {
+  const std::size_t n = blocks.size();
   const auto counter = [&first](std::size_t i) {
     PhiloxCounter c = first;
     c[0] += static_cast<std::uint32_t>(i);
     return c;
   };
-  if (lanes != PhiloxLanes::kAvx512) {
-    // AVX2's lanes widen and transpose loaded counters anyway: the many path, a chunk at a time.
-    constexpr std::size_t kChunk = 32;
-    PhiloxCounter counters[kChunk];
-    for (std::size_t i = 0; i < out.size(); i += kChunk) {
-      const std::size_t n = std::min(kChunk, out.size() - i);
-      for (std::size_t j = 0; j < n; ++j) counters[j] = counter(i + j);
-      philox4x32_10_many_with(lanes, std::span(counters, n), key, out.subspan(i, n));
+  if (lanes == PhiloxLanes::kAvx512 && n > kScalarTail) {
+    // One call of as many vectors as the blocks need (a call's chain of rounds is its latency,
+    // whatever its width up to four vectors), into padded copies.
+    PhiloxCounter padded_blocks[kPhiloxUniformGroup];
+    double padded_u[2 * kPhiloxUniformGroup];
+    switch ((n + kSlots512 - 1) / kSlots512) {
+      case 1:
+        philox_uniforms_avx512<1>(first, key, padded_blocks, padded_u);
+        break;
+      case 2:
+        philox_uniforms_avx512<2>(first, key, padded_blocks, padded_u);
+        break;
+      case 3:
+        philox_uniforms_avx512<3>(first, key, padded_blocks, padded_u);
+        break;
+      default:
+        philox_uniforms_avx512<4>(first, key, padded_blocks, padded_u);
+        break;
     }
+    std::copy(padded_blocks, padded_blocks + n, blocks.begin());
+    std::copy(padded_u, padded_u + 2 * n, u.begin());
     return;
   }
-  constexpr std::size_t lanes512 = kSlots512 * kVectorsInFlight;
-  std::size_t i = 0;
-  for (; i + lanes512 <= out.size(); i += lanes512) {
-    philox_consecutive_avx512<kVectorsInFlight>(counter(i), key, out.data() + i);
-  }
-  const std::size_t tail = out.size() - i;
-  if (tail == 0) return;
-  if (tail <= kScalarTail) {
-    for (; i < out.size(); ++i) out[i] = philox4x32_10(counter(i), key);
-    return;
-  }
-  PhiloxCounter padded[lanes512];
-  if (tail <= kSlots512) {
-    philox_consecutive_avx512<1>(counter(i), key, padded);
+  if (lanes == PhiloxLanes::kAvx2 && n > kScalarTail) {
+    // AVX2's lanes widen and transpose loaded counters anyway: the many path.
+    PhiloxCounter counters[kPhiloxUniformGroup];
+    for (std::size_t i = 0; i < n; ++i) counters[i] = counter(i);
+    philox4x32_10_many_with(lanes, std::span(counters, n), key, blocks);
   } else {
-    philox_consecutive_avx512<kVectorsInFlight>(counter(i), key, padded);
+    for (std::size_t i = 0; i < n; ++i) blocks[i] = philox4x32_10(counter(i), key);
   }
-  std::copy(padded, padded + tail, out.begin() + static_cast<std::ptrdiff_t>(i));
+  for (std::size_t i = 0; i < n; ++i) {
+    u[2 * i] = RandomStream::uniform_of(blocks[i], 0);
+    u[2 * i + 1] = RandomStream::uniform_of(blocks[i], 2);
+  }
 }
 
 namespace {
@@ -297,11 +325,6 @@ PhiloxLanes widest_lanes() {
   return widest;
 }
 }  // namespace
-
-void philox4x32_10_consecutive(const PhiloxCounter& first, PhiloxKey key,
-                               std::span<PhiloxCounter> out) {
-  philox4x32_10_consecutive_with(widest_lanes(), first, key, out);
-}
 
 void philox4x32_10_many(std::span<const PhiloxCounter> counters, PhiloxKey key,
                         std::span<PhiloxCounter> out) {
@@ -321,20 +344,22 @@ void RandomStream::refill() {
 void RandomStream::uniforms(std::span<double> out) {
   std::size_t i = 0;
   while (i < out.size() && next_ <= 2) out[i++] = uniform();  // what is left of this block
-  // Whole blocks, a group at a time (consecutive counters: the lanes set them up themselves);
-  // the last one stays the stream's block, its words read as far as uniform() would have read
-  // them.
-  constexpr std::size_t kGroup = 32;
-  PhiloxCounter blocks[kGroup];
+  // Whole blocks, a group at a time, their uniforms converted in the lanes that made them
+  // (philox_uniforms_with); the last one stays the stream's block, its words read as far as
+  // uniform() would have read them.
+  static const PhiloxLanes lanes = widest_lanes();
+  PhiloxCounter blocks[kPhiloxUniformGroup];
+  double group_u[2 * kPhiloxUniformGroup];
   while (i < out.size()) {
-    const std::size_t group = std::min(kGroup, (out.size() - i + 1) / 2);
-    philox4x32_10_consecutive(counter_, key_, std::span(blocks, group));
+    const std::size_t group = std::min(kPhiloxUniformGroup, (out.size() - i + 1) / 2);
+    philox_uniforms_with(lanes, counter_, key_, std::span(blocks, group),
+                         std::span(group_u, 2 * group));
     counter_[0] += static_cast<std::uint32_t>(group);
-    for (std::size_t g = 0; g < group; ++g) {
-      block_ = blocks[g];
-      for (next_ = 0; next_ <= 2 && i < out.size(); next_ += 2)
-        out[i++] = uniform_of(block_, next_);
-    }
+    const std::size_t n = std::min(2 * group, out.size() - i);
+    std::copy(group_u, group_u + n, out.begin() + static_cast<std::ptrdiff_t>(i));
+    i += n;
+    block_ = blocks[group - 1];
+    next_ = n % 2 == 1 ? 2 : 4;  // one word pair of the last block read, or both
   }
 }
 

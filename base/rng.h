@@ -27,12 +27,6 @@ PhiloxCounter philox4x32_10(PhiloxCounter counter, PhiloxKey key);
 void philox4x32_10_many(std::span<const PhiloxCounter> counters, PhiloxKey key,
                         std::span<PhiloxCounter> out);
 
-// The blocks of consecutive counters: out[i] = philox4x32_10(first with word 0 + i, key), word 0
-// wrapping as a stream's ++counter[0] does; the lanes make their counters in registers
-// (RandomStream::uniforms).
-void philox4x32_10_consecutive(const PhiloxCounter& first, PhiloxKey key,
-                               std::span<PhiloxCounter> out);
-
 // What a stream of numbers is used for. Each purpose gets disjoint counters, so that no
 // resampling draw reuses the numbers that made a pool (docs/reference/INTERFACE.md, "Determinism").
 enum class StreamPurpose : std::uint8_t {

@@ -66,9 +66,9 @@ BENCHMARK_CAPTURE(BM_PhiloxManyLanes, scalar, PhiloxLanes::kScalar);
 BENCHMARK_CAPTURE(BM_PhiloxManyLanes, avx2, PhiloxLanes::kAvx2);
 BENCHMARK_CAPTURE(BM_PhiloxManyLanes, avx512, PhiloxLanes::kAvx512);
 
-// A few blocks at a time, as a resampling step's uniforms ask for them (RandomStream::uniforms:
-// three uniforms a candidate, one per acceptance), each way side by side: where the padded
-// tail of a group stops paying against one block at a time (kScalarTail in base/rng.cpp).
+// A few blocks at a time, as a resampling step's streams ask for them (three uniforms a
+// candidate, one per acceptance), each way side by side: where a padded tail of a group stops
+// paying against one block at a time (kScalarTail in base/rng.cpp).
 void BM_PhiloxFew(benchmark::State& state, PhiloxLanes lanes) {
   if (!philox_lanes_supported(lanes)) {
     state.SkipWithError("not supported on this CPU");

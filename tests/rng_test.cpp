@@ -45,28 +45,31 @@ TEST(RngPhilox, ManyMatchesOneByOne) {
   }
 }
 
-// Consecutive counters' blocks are each counter's block, for every count up to past two groups
-// (each tail width: one block at a time, one vector, two) and across word 0's wrap.
-TEST(RngPhilox, ConsecutiveMatchesOneByOne) {
+// A stream's blocks and numbers in lanes are each consecutive counter's block and its two
+// uniforms, for every group size (each tail: one block at a time, one to four vectors), with
+// every way this machine has, and across word 0's wrap.
+TEST(RngPhilox, UniformsMatchOneByOne) {
   const PhiloxKey key{0x3c6ef372u, 0xa54ff53au};
   for (const std::uint32_t start : {0u, 0xfffffff5u}) {
     const PhiloxCounter first{start, 17u, 0x0badf00du, 0x03000005u};
-    for (std::size_t n = 0; n <= 40; ++n) {
+    for (std::size_t n = 1; n <= kPhiloxUniformGroup; ++n) {
       std::vector<PhiloxCounter> expected(n);
+      std::vector<double> expected_u(2 * n);
       for (std::size_t i = 0; i < n; ++i) {
         PhiloxCounter c = first;
         c[0] += static_cast<std::uint32_t>(i);
         expected[i] = philox4x32_10(c, key);
+        expected_u[2 * i] = RandomStream::uniform_of(expected[i], 0);
+        expected_u[2 * i + 1] = RandomStream::uniform_of(expected[i], 2);
       }
-      std::vector<PhiloxCounter> out(n);
-      philox4x32_10_consecutive(first, key, out);
-      EXPECT_EQ(out, expected) << "n = " << n << ", start " << start;
       for (const PhiloxLanes lanes :
            {PhiloxLanes::kScalar, PhiloxLanes::kAvx2, PhiloxLanes::kAvx512}) {
         if (!philox_lanes_supported(lanes)) continue;
-        std::vector<PhiloxCounter> with(n);
-        philox4x32_10_consecutive_with(lanes, first, key, with);
-        EXPECT_EQ(with, expected) << "lanes " << static_cast<int>(lanes) << ", n = " << n;
+        std::vector<PhiloxCounter> blocks(n);
+        std::vector<double> u(2 * n);
+        philox_uniforms_with(lanes, first, key, blocks, u);
+        EXPECT_EQ(blocks, expected) << "lanes " << static_cast<int>(lanes) << ", n = " << n;
+        EXPECT_EQ(u, expected_u) << "lanes " << static_cast<int>(lanes) << ", n = " << n;
       }
     }
   }
