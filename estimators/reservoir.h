@@ -35,35 +35,36 @@ class Reservoir {
     const double a = acceptance(w);
     if (a >= 1.0 || (a > 0.0 && rng.uniform() < a)) kept_ = j;
   }
-  // offer() for candidates first, first + 1, … of `weights`, in order: the same choices from
-  // the same numbers, the uniforms the acceptances need (one for each 0 < a < 1) read from `rng`
-  // kBatch candidates at a time (RandomStream::uniforms), and no branch on a candidate (each
-  // u < a is a coin flip a branch would mispredict half the time).
+  // A batch of candidates first, first + 1, … of `weights` (at most kBatch) at once, with the
+  // distribution offer() gives them one by one: candidate j of the batch kept with probability
+  // w_j / Σ w over every candidate so far. The batch's own choice is one uniform's inverse
+  // transform over its running sums (`inverse_transform`), kept against the candidates of
+  // earlier batches as one candidate of the batch's total weight (a second uniform, only when an
+  // earlier batch kept one). One candidate at a time drew a uniform per acceptance and waited on
+  // a division each (docs/findings/candidates.md).
   static constexpr std::size_t kBatch = 64;
-  void offer_all(std::uint32_t first, std::span<const double> weights, RandomStream& rng) {
-    for (std::size_t start = 0; start < weights.size(); start += kBatch) {
-      const std::size_t n = std::min(kBatch, weights.size() - start);
-      double accept[kBatch], u[kBatch + 1];
-      std::size_t draws = 0;
-      for (std::size_t j = 0; j < n; ++j) {
-        accept[j] = acceptance(weights[start + j]);
-        draws += static_cast<std::size_t>((accept[j] > 0.0) & (accept[j] < 1.0));
-      }
-      rng.uniforms(std::span(u, draws));
-      u[draws] = 1.0;  // read by the candidates after the last draw, and never used
-      std::size_t k = 0;
-      std::uint32_t kept = kept_;
-      for (std::size_t j = 0; j < n; ++j) {
-        const double a = accept[j];
-        const bool draws_one = (a > 0.0) & (a < 1.0);
-        const bool take = (a >= 1.0) | (draws_one & (u[k] < a));
-        // A select on the bits: written as a ternary, GCC branched on `take`.
-        const std::uint32_t mask = 0u - static_cast<std::uint32_t>(take);
-        kept ^= (kept ^ (first + static_cast<std::uint32_t>(start + j))) & mask;
-        k += static_cast<std::size_t>(draws_one);
-      }
-      kept_ = kept;
+  void offer_batch(std::uint32_t first, std::span<const double> weights, RandomStream& rng) {
+    double running[kBatch];
+    double batch = 0.0;
+    for (std::size_t j = 0; j < weights.size(); ++j) running[j] = batch += weights[j];
+    if (!(batch > 0.0)) return;
+    const bool earlier = !empty();
+    sum_ += batch;
+    if (earlier && !(rng.uniform() * sum_ < batch)) return;
+    kept_ = first + inverse_transform(std::span(running, weights.size()), rng.uniform());
+  }
+  // The candidate whose interval [R_{j-1}, R_j) of the running sums R holds u R_last: the first
+  // j with R_j > u R_last, found by counting (no branch a coin flip mispredicts), and never one
+  // of weight 0 (where rounding puts u R_last at R_last itself: the last of positive weight).
+  static std::uint32_t inverse_transform(std::span<const double> running, double u) {
+    const double total = running.back(), target = u * total;
+    std::uint32_t below = 0, last_positive = 0;
+    for (std::size_t j = 0; j < running.size(); ++j) {
+      below += running[j] <= target ? 1u : 0u;
+      const bool positive = running[j] > (j > 0 ? running[j - 1] : 0.0);
+      last_positive = positive ? static_cast<std::uint32_t>(j) : last_positive;
     }
+    return std::min(below, last_positive);
   }
   void keep(std::uint32_t j) { kept_ = j; }
 

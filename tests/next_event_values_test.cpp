@@ -2,10 +2,12 @@
 // every built-in scene: NextEventValues gives connect()'s unweighted, unoccluded next-event
 // value to the bit with the same counters, and resample_emitters (candidates in batches, their
 // uniforms drawn together, the visible target's shadow rays in packets) keeps the candidate,
-// contribution weight and counters of the reservoir fed one candidate at a time through
-// connect(). What the images owe to these is checked whole by ctest estimators.hashes.
+// contribution weight and counters of the candidates weighed one at a time through connect()
+// and chosen by the same reservoir step. What the images owe to these is checked whole by
+// ctest estimators.hashes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -88,20 +90,32 @@ TEST_P(NextEventValuesOn, EachValueIsConnectsUnweightedUnoccludedValue) {
   EXPECT_GT(nonzero, 100u);  // the comparison saw values, not only zeros
 }
 
-// The reservoir fed one candidate at a time, as resample_emitters did before its batches.
+// The candidates one at a time through connect(), as resample_emitters weighed them before its
+// lanes, the reservoir's choice taken as resample_emitters takes it (Reservoir::offer_batch, a
+// batch of EmitterPoints::kCapacity at a time, whose distribution ReservoirSampling.* test).
 EmitterSample resample_one_by_one(const RenderServices& services, CameraPrefix& prefix,
                                   std::uint32_t candidates, EmitterTarget target) {
+  constexpr std::uint32_t kBatch = EmitterPoints::kCapacity;
   Reservoir reservoir;
   EmitterSample kept;
-  for (std::uint32_t i = 0; i < candidates; ++i) {
-    const PathVertex x = sample_emitter_vertex(services.scene(), prefix.camera);
-    const Rgb value = services.connect(
-        std::span(&x, 1), prefix.vertices,
-        {.visibility = target == EmitterTarget::kVisible, .weighted = false}, prefix.counters);
-    reservoir.offer(i, value.max_channel(), prefix.draws);
-    if (reservoir.kept() == i) {
-      kept.point = x;
-      kept.at_owner = {value, value.max_channel() * x.pdf_fwd};
+  for (std::uint32_t first = 0; first < candidates; first += kBatch) {
+    const std::uint32_t n = std::min(kBatch, candidates - first);
+    std::vector<PathVertex> points;
+    std::vector<Rgb> values;
+    std::vector<double> weights;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      points.push_back(sample_emitter_vertex(services.scene(), prefix.camera));
+      values.push_back(services.connect(
+          std::span(&points.back(), 1), prefix.vertices,
+          {.visibility = target == EmitterTarget::kVisible, .weighted = false}, prefix.counters));
+      weights.push_back(values.back().max_channel());
+    }
+    const std::uint32_t before = reservoir.kept();
+    reservoir.offer_batch(first, weights, prefix.draws);
+    if (reservoir.kept() != before) {
+      const std::uint32_t j = reservoir.kept() - first;
+      kept.point = points[j];
+      kept.at_owner = {values[j], weights[j] * points[j].pdf_fwd};
     }
   }
   if (!reservoir.empty()) {

@@ -62,24 +62,70 @@ TEST(ReservoirSampling, SampledChoicesFollowTheEnumeration) {
   EXPECT_GT(chi_square_p_value(observed, expected), 1e-6);
 }
 
-// offer_all makes offer()'s choices from the same numbers and leaves the stream where offer()
-// leaves it: weights with zeros (no uniform read) and a first candidate of a = 1, counts across
-// its batch of 64, and a run that starts with a weight sum and a kept candidate.
-TEST(ReservoirSampling, OfferAllMakesOffersChoices) {
-  std::vector<double> weights;
-  for (std::uint32_t j = 0; j < 150; ++j) weights.push_back(j % 7 == 3 ? 0.0 : 0.5 + (j * 37 % 11));
-  for (std::size_t count : {1u, 5u, 64u, 65u, 150u}) {
-    for (std::uint32_t seed = 0; seed < 40; ++seed) {
-      RandomStream one_rng({.key = 32, .sample = seed}), all_rng({.key = 32, .sample = seed});
-      Reservoir one, all;
-      one.offer(0, 2.0, one_rng);
-      all.offer(0, 2.0, all_rng);
-      for (std::uint32_t j = 0; j < count; ++j) one.offer(1 + j, weights[j], one_rng);
-      all.offer_all(1, std::span(weights).first(count), all_rng);
-      EXPECT_EQ(all.kept(), one.kept()) << count << " " << seed;
-      EXPECT_EQ(all.weight_sum(), one.weight_sum());
-      EXPECT_EQ(all_rng.uniform(), one_rng.uniform());
+// A batch's inverse transform picks the candidate whose interval of the running sums holds u
+// times their total, never one of weight 0 (leading, inner or trailing), up to the last u below
+// 1; over a fine grid of u each candidate's share is its normalised weight to within the grid's
+// spacing.
+TEST(ReservoirSampling, InverseTransformPicksTheIntervalOfU) {
+  const std::vector<double> weights = {0.0, 0.4, 0.0, 2.5, 1e-3, 0.9, 0.0, 3.1, 0.0};
+  std::vector<double> running;
+  double total = 0.0;
+  for (const double w : weights) running.push_back(total += w);
+  constexpr int kGrid = 1 << 16;
+  std::vector<double> share(weights.size(), 0.0);
+  std::vector<double> us;
+  for (int k = 0; k < kGrid; ++k) us.push_back((k + 0.5) / kGrid);
+  us.insert(us.end(), {0.0, std::nextafter(1.0, 0.0)});
+  for (const double u : us) {
+    const std::uint32_t j = Reservoir::inverse_transform(running, u);
+    ASSERT_LT(j, weights.size());
+    ASSERT_GT(weights[j], 0.0) << "u = " << u;
+    const double target = u * total;
+    EXPECT_TRUE((j == 0 || running[j - 1] <= target) && (target < running[j] || u * total >= total))
+        << "u = " << u << ", j = " << j;
+    if (u != us[kGrid] && u != us[kGrid + 1]) share[j] += 1.0 / kGrid;
+  }
+  for (std::size_t j = 0; j < weights.size(); ++j) {
+    EXPECT_NEAR(share[j], weights[j] / total, 2.0 / kGrid) << j;
+  }
+}
+
+// offer_batch keeps each candidate with its share of every weight offered so far: after one
+// candidate offered alone, the weights in one batch and in two (the second kept against the
+// first as one candidate of its total), 200000 sampled reservoirs each against w_j / Σ w
+// (chi-square, budget 1e-6 each, fixed seed); zero weights never kept, and the sum is Σ w.
+TEST(ReservoirSampling, OfferBatchFollowsTheNormalisedWeights) {
+  constexpr int kDraws = 200000;
+  constexpr double kFirst = 2.0;
+  double total = kFirst;
+  for (const double w : kWeights) total += w;
+  for (const std::size_t split : {kWeights.size(), std::size_t{3}}) {
+    std::vector<double> seen(kWeights.size() + 1, 0.0);
+    for (int i = 0; i < kDraws; ++i) {
+      RandomStream rng({.key = 33, .sample = static_cast<std::uint32_t>(i)});
+      Reservoir reservoir;
+      reservoir.offer(0, kFirst, rng);
+      reservoir.offer_batch(1, std::span(kWeights).first(split), rng);
+      if (split < kWeights.size()) {
+        reservoir.offer_batch(1 + static_cast<std::uint32_t>(split),
+                              std::span(kWeights).subspan(split), rng);
+      }
+      ASSERT_FALSE(reservoir.empty());
+      if (i == 0) {
+        EXPECT_NEAR(reservoir.weight_sum(), total, 1e-14 * total);
+      }
+      seen[reservoir.kept()] += 1.0;
     }
+    std::vector<double> observed = {seen[0]}, expected = {kFirst / total};
+    for (std::size_t j = 0; j < kWeights.size(); ++j) {
+      if (kWeights[j] == 0.0) {
+        EXPECT_EQ(seen[1 + j], 0.0) << j;
+        continue;
+      }
+      observed.push_back(seen[1 + j]);
+      expected.push_back(kWeights[j] / total);
+    }
+    EXPECT_GT(chi_square_p_value(observed, expected), 1e-6) << "split " << split;
   }
 }
 

@@ -74,8 +74,8 @@ EmitterSample resample_emitters(const RenderServices& services, CameraPrefix& pr
   const NextEventValues values(scene, prefix.vertices, services.counts());
   // Candidates a batch at a time: their uniforms drawn together, their points and values in
   // structure-of-arrays form (the values in SIMD lanes), the visible target's shadow rays
-  // traced as packets, the reservoir's steps taken together (Reservoir::offer_all). The same
-  // numbers, choices and counters as the candidates one by one through connect().
+  // traced as packets, the reservoir's choice one uniform a batch (Reservoir::offer_batch). The
+  // same values and counters as the candidates one by one through connect().
   constexpr std::uint32_t kBatch = EmitterPoints::kCapacity;
   static_assert(kBatch <= Reservoir::kBatch);
   double u[3 * kBatch];
@@ -93,7 +93,7 @@ EmitterSample resample_emitters(const RenderServices& services, CameraPrefix& pr
     // w = p̂ / q: the value's largest channel, the connection already divided by q.
     for (std::uint32_t j = 0; j < n; ++j) weights[j] = at[j].value.max_channel();
     const std::uint32_t before = reservoir.kept();
-    reservoir.offer_all(first, std::span(weights, n), prefix.draws);
+    reservoir.offer_batch(first, std::span(weights, n), prefix.draws);
     if (reservoir.kept() != before) {
       const std::uint32_t j = reservoir.kept() - first;
       kept.point = emitter_vertex(points[j]);

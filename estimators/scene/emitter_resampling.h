@@ -1,7 +1,8 @@
 // Resampled next-event estimation at a camera vertex (Talbot et al. 2005), the step the scene
 // forms of ris and restir share: M emitter points X_1 .. X_M from the emitters' own density q
 // (power × area, integrands/scenes/emitters.h) stream through a weighted reservoir
-// (estimators/reservoir.h) with weights w_i = p̂(X_i) / q(X_i); the one kept, Y, carries the
+// (estimators/reservoir.h) with weights w_i = p̂(X_i) / q(X_i), a batch of up to 64 at a time
+// (Reservoir::offer_batch: Y ∝ w from one uniform a batch); the one kept, Y, carries the
 // unbiased contribution weight
 //     W = Σ_i w_i / (M p̂(Y)),   so that   E[f(Y) W] = ∫ f(x) dx   wherever p̂ > 0 where f > 0.
 // f is the next-event strategy's MIS-weighted contribution (RenderServices::connect, strategy
