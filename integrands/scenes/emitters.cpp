@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "base/lane_select.h"
 
@@ -49,11 +48,8 @@ Emitters::Emitters(const SceneDescription& scene)
     total += power;
     ++point_light_count_;
   }
-  double running = 0.0;
   for (Entry& e : entries_) {
     e.probability /= total;
-    running += e.probability;
-    cdf_.push_back(running);
     if (e.point_light) {
       e.pdf_area = e.probability;  // a delta: the probability of the light itself
     } else {
@@ -61,37 +57,60 @@ Emitters::Emitters(const SceneDescription& scene)
       triangle_pdf_area_[e.index] = e.pdf_area;
     }
   }
-  if (!cdf_.empty()) cdf_.back() = 1.0;
-  padded_cdf_ = cdf_;
-  padded_cdf_.resize(cdf_.size() + kWindow, std::numeric_limits<double>::infinity());
-  // About two entries per bucket.
-  const std::size_t buckets = std::max<std::size_t>(1, 2 * entries_.size());
-  guide_.resize(buckets + 1);
-  for (std::size_t b = 0; b <= buckets; ++b) {
-    const double u = static_cast<double>(b) / static_cast<double>(buckets);
-    guide_[b] =
-        static_cast<std::uint32_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
-  }
+  build_alias_table();
 }
 
-std::size_t Emitters::entry_for(double u_select) const {
-  const std::size_t buckets = guide_.size() - 1;
-  const std::size_t b = std::min(buckets - 1, static_cast<std::size_t>(u_select * buckets));
-  // The cdf is sorted, so the entries of the window at or below u_select come first and their
-  // count is upper_bound's offset from the window's start, if the window holds the answer.
-  const std::size_t first = guide_[b];
-  std::size_t below = 0;
-  for (std::size_t k = 0; k < kWindow; ++k) below += padded_cdf_[first + k] <= u_select ? 1 : 0;
-  // It does when the answer is inside the window (a count short of the window's size: the entry
-  // after the last counted one exceeds u_select) and every entry before the window is at or
-  // below u_select. The guide gave `first` as upper_bound's of the bucket's start b / G, so
-  // those entries are at or below b / G, and b / G <= u_select unless u_select * G rounded up
-  // across a bucket's edge: a test on values the window's loads do not wait for (testing
-  // cdf[first - 1] waited on the count, a quarter of the choice's time). Otherwise the search of
-  // the whole cdf, so the entry is always upper_bound's.
-  const double bucket_start = static_cast<double>(b) / static_cast<double>(buckets);
-  if (below < kWindow && bucket_start <= u_select) return first + below;
-  return std::upper_bound(cdf_.begin(), cdf_.end(), u_select) - cdf_.begin();
+void Emitters::build_alias_table() {
+  // Vose's construction: every bucket holds 1/n of probability, an entry's own share below its
+  // threshold and the rest from one entry with more than 1/n (its alias), which then has that
+  // much less to place.
+  const std::size_t n = entries_.size();
+  alias_.assign(n, {1.0, 0});
+  std::vector<double> scaled(n);
+  std::vector<std::uint32_t> small, large;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    scaled[i] = entries_[i].probability * static_cast<double>(n);
+    (scaled[i] < 1.0 ? small : large).push_back(i);
+  }
+  while (!small.empty() && !large.empty()) {
+    const std::uint32_t below = small.back(), above = large.back();
+    small.pop_back();
+    large.pop_back();
+    alias_[below] = {scaled[below], above};
+    scaled[above] = (scaled[above] + scaled[below]) - 1.0;
+    (scaled[above] < 1.0 ? small : large).push_back(above);
+  }
+  // What is left holds 1/n to rounding: the whole bucket its own.
+  for (const std::uint32_t i : small) alias_[i] = {1.0, i};
+  for (const std::uint32_t i : large) alias_[i] = {1.0, i};
+}
+
+std::uint32_t Emitters::entry_for(double u_select) const {
+  // u_select · n names the bucket and, past its integer part, where in the bucket it falls: the
+  // same uniform serves both (the fraction is uniform and independent of the bucket).
+  const double x = u_select * static_cast<double>(alias_.size());
+  const std::size_t i = std::min(alias_.size() - 1, static_cast<std::size_t>(x));
+  const AliasBucket& bucket = alias_[i];
+  // A select on the bits: written as a ternary, GCC branched on a coin flip.
+  const std::uint32_t own =
+      0u - static_cast<std::uint32_t>(x - static_cast<double>(i) < bucket.threshold);
+  return (static_cast<std::uint32_t>(i) & own) | (bucket.alias & ~own);
+}
+
+std::vector<double> Emitters::probabilities() const {
+  std::vector<double> p;
+  for (const Entry& e : entries_) p.push_back(e.probability);
+  return p;
+}
+
+std::vector<double> Emitters::choice_probabilities() const {
+  const double n = static_cast<double>(alias_.size());
+  std::vector<double> p(alias_.size(), 0.0);
+  for (std::size_t i = 0; i < alias_.size(); ++i) {
+    p[i] += alias_[i].threshold / n;
+    p[alias_[i].alias] += (1.0 - alias_[i].threshold) / n;
+  }
+  return p;
 }
 
 double Emitters::pdf_area(std::uint32_t triangle) const {
@@ -123,7 +142,7 @@ EmitterPoint Emitters::point_on(const Entry& e, double u1, double u2) {
 }
 
 EmitterPoint Emitters::sample(double u_select, double u1, double u2) const {
-  return point_on(entries_[std::min(entry_for(u_select), entries_.size() - 1)], u1, u2);
+  return point_on(entries_[entry_for(u_select)], u1, u2);
 }
 
 void Emitters::sample_many(std::span<const double> u, EmitterPoints& out) const {
@@ -133,10 +152,7 @@ void Emitters::sample_many(std::span<const double> u, EmitterPoints& out) const 
   // (the fold of the unit square is a coin flip, mispredicted half the time): a point light's
   // row has no edges and its position is taken as it is.
   std::uint32_t chosen[EmitterPoints::kCapacity];
-  const std::size_t last = entries_.size() - 1;
-  for (std::size_t j = 0; j < out.size; ++j) {
-    chosen[j] = static_cast<std::uint32_t>(std::min(entry_for(u[3 * j]), last));
-  }
+  for (std::size_t j = 0; j < out.size; ++j) chosen[j] = entry_for(u[3 * j]);
   for (std::size_t j = 0; j < out.size; ++j) {
     const Entry& e = entries_[chosen[j]];
     const double u1 = u[3 * j + 1], u2 = u[3 * j + 2];

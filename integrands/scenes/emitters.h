@@ -64,7 +64,7 @@ class Emitters {
  public:
   explicit Emitters(const SceneDescription& scene);
 
-  bool empty() const { return cdf_.empty(); }
+  bool empty() const { return entries_.empty(); }
   bool has_point_lights() const { return point_light_count_ > 0; }
 
   // A start point from three uniforms.
@@ -92,21 +92,25 @@ class Emitters {
   static EmitterPoint point_on(const Entry& e, double u1, double u2);
 
  public:
-  // The entry u_select picks: the first whose cdf exceeds it, as std::upper_bound over the
-  // whole cdf finds it, counted branch-free within a window of the guide table's bucket of
-  // u_select (a search mispredicted a branch per level, a quarter of a candidate's cost), and
-  // searched over the whole cdf where the window does not hold it. Public for its test.
-  std::size_t entry_for(double u_select) const;
-  const std::vector<double>& cdf() const { return cdf_; }
+  // The entry u_select picks, by Walker's alias method (Vose's construction): bucket ⌊u n⌋ of n,
+  // and within it the entry itself below the bucket's threshold, its alias above. One row read
+  // whatever the number of emitters: a search of the cdf waited on a chain of dependent loads, a
+  // fifth of a resampling candidate's time (docs/findings/candidates.md). Public for its test.
+  std::uint32_t entry_for(double u_select) const;
+  // Each entry's probability, ∝ its power (what pdf_area divides), and the probability with
+  // which entry_for picks it, from the table (its test holds the two equal).
+  std::vector<double> probabilities() const;
+  std::vector<double> choice_probabilities() const;
 
  private:
-  static constexpr std::size_t kWindow = 8;
+  struct AliasBucket {
+    double threshold;  // the bucket's own entry below it, in [0, 1]
+    std::uint32_t alias;
+  };
+  void build_alias_table();
 
   std::vector<Entry> entries_;
-  std::vector<double> cdf_;
-  std::vector<double> padded_cdf_;  // cdf_ and kWindow infinities, which no u_select reaches
-  // guide_[b]: the first entry whose cdf exceeds b / G, for b = 0 .. G (G = guide_.size() - 1).
-  std::vector<std::uint32_t> guide_;
+  std::vector<AliasBucket> alias_;         // one bucket per entry
   std::vector<double> triangle_pdf_area_;  // per triangle, 0 for a non-emitter
   std::uint32_t point_light_count_ = 0;
 };
