@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --preset release >/dev/null
 cmake --build --preset release --target pcbench_bench >/dev/null
-filter='PhiloxBlock|PhiloxMany|UniformDouble|TallyAdd|PlainGenzGaussianBatch|SamplePool|ImportanceS|BM_Connect/(genz-gaussian|blocker|door)$|HarnessPlain|HandWritten|RayRate'
+filter='PhiloxBlock|PhiloxMany|UniformDouble|TallyAdd|PlainGenzGaussianBatch|SamplePool|ImportanceS|BM_Connect/(genz-gaussian|blocker|door)$|HarnessPlain|HandWritten|RayRate|EmitterCandidate'
 out=$(mktemp --suffix=.json)
 trap 'rm -f "$out"' EXIT
 build/release/pcbench_bench --benchmark_filter="$filter" --benchmark_repetitions=5 \

@@ -21,11 +21,12 @@ struct CameraEnd {
 // Three passes over the batch: (1) in lanes, the segment from x to y, its direction w and the
 // geometry and emission terms; (2) f_y(wo, -w): a Lambertian end's in lanes, any other's
 // through bsdf_eval one point at a time; (3) in lanes, the products in connect()'s order and
-// the zero tests. Built twice, for SSE2 and AVX2 (no FMA in either: see the header).
+// the zero tests. Built three times, for SSE2, AVX2 and AVX-512 (8 doubles wide; no FMA in any:
+// see the header), the widest the machine has chosen at run time.
 // Returns how many values were zero with a segment of nonzero length (skipped_zero).
-[[gnu::target_clones("avx2", "default")]] std::size_t weigh(const CameraEnd& y,
-                                                            const EmitterPoints& p,
-                                                            NextEventValueLanes& out) {
+[[gnu::target_clones("avx512f", "avx2", "default")]] std::size_t weigh(const CameraEnd& y,
+                                                                       const EmitterPoints& p,
+                                                                       NextEventValueLanes& out) {
   constexpr std::size_t K = EmitterPoints::kCapacity;
   const std::size_t n = p.size;
   double wx[K], wy[K], wz[K], geometry[K], er[K], eg[K], eb[K], fr[K], fg[K], fb[K];

@@ -13,8 +13,9 @@
 // The value is connect()'s expression term for term, in its order of operations:
 //     x.beta · Le(x → y) · f_y(wo, y → x) · y.beta · (|cos_x| |cos_y| / d²),   x.beta = 1 / q(x),
 // so that a reservoir weighs exactly what the one-by-one code weighed. The lanes keep that
-// order and use no fused multiply-add (the vector code is built for AVX2, which has none, and
-// SSE2), and IEEE division and square root are exact in any width: the same bits as scalar code.
+// order and use no fused multiply-add (the vector code is built for AVX-512, AVX2 and SSE2 with
+// contraction off: CMakeLists.txt), and IEEE division and square root are exact in any width:
+// the same bits as scalar code.
 #pragma once
 
 #include <cstddef>
