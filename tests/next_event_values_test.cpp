@@ -178,6 +178,41 @@ TEST_P(NextEventValuesOn, BatchedResamplingKeepsWhatOneByOneKeeps) {
   EXPECT_GT(kept_some, 50u);
 }
 
+// restir's targets a prefix at a time: emitter_targets of a batch gives each point's
+// emitter_target, value bits, density and counters (shadow rays included for the visible
+// target), for batches of 1 to 33 points (the pixel and up to 32 neighbours).
+TEST_P(NextEventValuesOn, TargetsOfABatchAreTheTargetsOneByOne) {
+  const Scene scene = built_in(GetParam());
+  const auto paths = camera_paths(scene);
+  const StrategyCounts counts{.next_event = 16.0};
+  const RenderServices services(scene, counts, 0x7e57, 1, nullptr);
+  RandomStream rng({.key = 12, .purpose = StreamPurpose::kCameraPath});
+  std::size_t compared = 0;
+  for (const EmitterTarget target : {EmitterTarget::kUnshadowed, EmitterTarget::kVisible}) {
+    for (std::uint32_t p = 0; p < paths.size(); p += 5) {
+      for (std::uint32_t t = 2; t <= paths[p].size(); ++t) {
+        const std::span<const PathVertex> camera = std::span(paths[p]).first(t);
+        const std::size_t n = 1 + (p + t) % 33;
+        std::vector<PathVertex> points;
+        for (std::size_t j = 0; j < n; ++j) points.push_back(sample_emitter_vertex(scene, rng));
+        std::vector<const PathVertex*> xs;
+        for (const PathVertex& x : points) xs.push_back(&x);
+        std::vector<EmitterTargetValue> batch(n);
+        TraceCounters together, alone;
+        emitter_targets(services, xs, camera, target, batch, together);
+        for (std::size_t j = 0; j < n; ++j) {
+          const EmitterTargetValue one = emitter_target(services, points[j], camera, target, alone);
+          ASSERT_TRUE(same_bits(batch[j].value, one.value)) << "pixel " << p << " t " << t;
+          ASSERT_EQ(batch[j].density, one.density) << "pixel " << p << " t " << t;
+          ++compared;
+        }
+        ASSERT_TRUE(same_counters(together, alone)) << "pixel " << p << " t " << t;
+      }
+    }
+  }
+  EXPECT_GT(compared, 500u);
+}
+
 INSTANTIATE_TEST_SUITE_P(BuiltIn, NextEventValuesOn,
                          ::testing::Values("furnace", "cornell", "cornell-glossy", "door-ajar",
                                            "lampshade", "many-lights"),

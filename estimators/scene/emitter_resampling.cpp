@@ -53,18 +53,30 @@ void occlude(const Scene& scene, const NextEventValues& values, const EmitterPoi
 EmitterTargetValue emitter_target(const RenderServices& services, const PathVertex& x,
                                   std::span<const PathVertex> camera, EmitterTarget target,
                                   TraceCounters& counters) {
+  const PathVertex* const xs[] = {&x};
+  EmitterTargetValue out[1];
+  emitter_targets(services, xs, camera, target, out, counters);
+  return out[0];
+}
+
+void emitter_targets(const RenderServices& services, std::span<const PathVertex* const> xs,
+                     std::span<const PathVertex> camera, EmitterTarget target,
+                     std::span<EmitterTargetValue> out, TraceCounters& counters) {
   // Without the MIS weight: a balance heuristic per candidate would cost more than the rest of
   // the candidate, and p̂ only needs to be > 0 wherever the weighted f is.
+  if (xs.empty()) return;
   const Scene& scene = services.scene();
   const NextEventValues values(scene, camera, services.counts());
-  EmitterPoints point;
-  point.size = 1;
-  point.set(0, emitter_point(scene, x));
+  EmitterPoints points;
+  points.size = xs.size();
+  for (std::size_t j = 0; j < xs.size(); ++j) points.set(j, emitter_point(scene, *xs[j]));
   NextEventValueLanes at;
-  values.values(point, at, counters);
-  if (target == EmitterTarget::kVisible) occlude(scene, values, point, at, counters);
-  const Rgb value = at[0].value;
-  return {value, value.max_channel() * x.pdf_fwd};
+  values.values(points, at, counters);
+  if (target == EmitterTarget::kVisible) occlude(scene, values, points, at, counters);
+  for (std::size_t j = 0; j < xs.size(); ++j) {
+    const Rgb value = at[j].value;
+    out[j] = {value, value.max_channel() * xs[j]->pdf_fwd};
+  }
 }
 
 EmitterSample resample_emitters(const RenderServices& services, CameraPrefix& prefix,

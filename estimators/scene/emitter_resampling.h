@@ -37,6 +37,12 @@ struct EmitterTargetValue {
 EmitterTargetValue emitter_target(const RenderServices& services, const PathVertex& x,
                                   std::span<const PathVertex> camera, EmitterTarget target,
                                   TraceCounters& counters);
+// emitter_target of each of xs (at most EmitterPoints::kCapacity) at one camera prefix, into
+// out[j]: the same values and counters, the points weighed together (restir's reuse weighs
+// every source's sample at each source's prefix: one call per prefix, not per pair).
+void emitter_targets(const RenderServices& services, std::span<const PathVertex* const> xs,
+                     std::span<const PathVertex> camera, EmitterTarget target,
+                     std::span<EmitterTargetValue> out, TraceCounters& counters);
 
 // One reservoir's outcome: the emitter point kept, its target at the reservoir's own camera
 // prefix, and its contribution weight W (0 when no candidate had p̂ > 0).

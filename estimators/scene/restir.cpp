@@ -36,8 +36,10 @@
 namespace pcbench::scene {
 namespace {
 
-using SourceArray = std::array<std::uint32_t, kMaxReuseNeighbours + 1>;
-using TargetArray = std::array<double, kMaxReuseNeighbours + 1>;
+constexpr std::size_t kMaxSources = kMaxReuseNeighbours + 1;  // the pixel and its neighbours
+static_assert(kMaxSources <= EmitterPoints::kCapacity);
+using SourceArray = std::array<std::uint32_t, kMaxSources>;
+using TargetArray = std::array<double, kMaxSources>;
 
 // A pixel's camera prefix y_0 y_1, where its next event is reused.
 struct FirstVertex {
@@ -128,30 +130,11 @@ class RestirPass final : public ScenePass {
     return count;
   }
 
-  // T_t = p̂_t(Y_s) for the weights of source s, whose sample `from` has target `at_own` at the
-  // pixel that reuses it (sources[0]).
-  void weight_targets(const SourceArray& sources, std::size_t count, std::size_t s,
-                      const EmitterSample& from, const EmitterTargetValue& at_own,
-                      TargetArray& targets, TraceCounters& counters) const {
-    const bool same_target = weight_target_ == config_.ris.target;
-    // Pairwise weights of a neighbour's sample read only T_c and T_s.
-    const bool pair_only = config_.weighting.form == ReuseWeights::kPairwise && s != 0;
-    for (std::size_t t = 0; t < count; ++t) {
-      if (same_target && t == 0) {
-        targets[t] = at_own.density;
-      } else if (same_target && t == s) {
-        targets[t] = from.at_owner.density;  // p̂_s(Y_s), as source s kept it
-      } else if (pair_only && t != 0 && t != s) {
-        targets[t] = 0.0;  // not read
-      } else {
-        targets[t] = emitter_target(services_, from.point, first_[sources[t]].prefix,
-                                    weight_target_, counters)
-                         .density;
-      }
-    }
-  }
-
-  // One round's reservoir of `pixel`, from the previous round's (current_).
+  // One round's reservoir of `pixel`, from the previous round's (current_). Every target the
+  // round reads is weighed one camera prefix at a time, each prefix's samples together
+  // (emitter_targets): p̂_c(Y_s) of every source's sample at this pixel, then T_t = p̂_t(Y_s)
+  // for the weights, at source t's prefix for every sample s that reads it. The same targets
+  // and counters as one pair at a time, without a prefix set up and a batch weighed per pair.
   EmitterSample reuse(std::uint32_t pixel, std::uint32_t index, std::uint32_t round,
                       TraceCounters& counters) const {
     const FirstVertex& own = first_[pixel];
@@ -160,22 +143,70 @@ class RestirPass final : public ScenePass {
         services_.stream(StreamPurpose::kEstimatorAux, index, round * pixels_ + pixel));
     SourceArray sources;
     const std::size_t count = draw_sources(pixel, rng, sources);
+
+    // p̂_c(Y_s) for the sources that hold a sample.
+    std::array<EmitterTargetValue, kMaxSources> at_own{};
+    std::array<const PathVertex*, kMaxSources> points;
+    std::array<std::size_t, kMaxSources> source_of;
+    std::size_t held = 0;
+    for (std::size_t s = 0; s < count; ++s) {
+      if (current_[sources[s]].empty()) continue;
+      points[held] = &current_[sources[s]].point;
+      source_of[held++] = s;
+    }
+    {
+      std::array<EmitterTargetValue, kMaxSources> values;
+      emitter_targets(services_, std::span(points).first(held), own.prefix, config_.ris.target,
+                      std::span(values).first(held), counters);
+      for (std::size_t k = 0; k < held; ++k) at_own[source_of[k]] = values[k];
+    }
+
+    // targets[s][t] = T_t(Y_s) for the sources whose sample has p̂_c > 0 (the others are not
+    // offered): as one source's sample kept it, or as this pixel's own target has it, where the
+    // weights' targets are those; not read by pairwise weights of a neighbour's sample except
+    // at c and s; weighed at t's prefix otherwise.
+    const bool same_target = weight_target_ == config_.ris.target;
+    const auto offered = [&](std::size_t s) {
+      return !current_[sources[s]].empty() && at_own[s].density > 0.0;
+    };
+    const auto weighed = [&](std::size_t s, std::size_t t) {
+      if (same_target && (t == 0 || t == s)) return false;
+      const bool pair_only = config_.weighting.form == ReuseWeights::kPairwise && s != 0;
+      return !(pair_only && t != 0 && t != s);
+    };
+    std::array<TargetArray, kMaxSources> targets;
+    for (std::size_t s = 0; s < count; ++s) {
+      if (!offered(s)) continue;
+      for (std::size_t t = 0; t < count; ++t) {
+        targets[s][t] = same_target && t == 0   ? at_own[s].density
+                        : same_target && t == s ? current_[sources[s]].at_owner.density
+                                                : 0.0;
+      }
+    }
+    for (std::size_t t = 0; t < count; ++t) {
+      std::size_t n = 0;
+      for (std::size_t s = 0; s < count; ++s) {
+        if (!offered(s) || !weighed(s, t)) continue;
+        points[n] = &current_[sources[s]].point;
+        source_of[n++] = s;
+      }
+      std::array<EmitterTargetValue, kMaxSources> values;
+      emitter_targets(services_, std::span(points).first(n), first_[sources[t]].prefix,
+                      weight_target_, std::span(values).first(n), counters);
+      for (std::size_t k = 0; k < n; ++k) targets[source_of[k]][t] = values[k].density;
+    }
+
     Reservoir reservoir;
     EmitterSample kept;
-    TargetArray targets;
     for (std::size_t s = 0; s < count; ++s) {
+      if (!offered(s)) continue;
       const EmitterSample& from = current_[sources[s]];
-      if (from.empty()) continue;
-      const EmitterTargetValue at_own =
-          emitter_target(services_, from.point, own.prefix, config_.ris.target, counters);
-      if (!(at_own.density > 0.0)) continue;
-      weight_targets(sources, count, s, from, at_own, targets, counters);
-      const double m = reuse_mis_weight(config_.weighting, std::span(targets).first(count), s);
-      reservoir.offer(static_cast<std::uint32_t>(s), m * at_own.density * from.contribution_weight,
-                      rng);
+      const double m = reuse_mis_weight(config_.weighting, std::span(targets[s]).first(count), s);
+      reservoir.offer(static_cast<std::uint32_t>(s),
+                      m * at_own[s].density * from.contribution_weight, rng);
       if (reservoir.kept() == s) {
         kept.point = from.point;
-        kept.at_owner = at_own;
+        kept.at_owner = at_own[s];
       }
     }
     if (!reservoir.empty()) {
