@@ -6,10 +6,10 @@
 #include <array>
 #include <numeric>
 
+#include "base/discrete_sampler.h"
 #include "base/philox_lanes.h"
 #include "base/rng.h"
 #include "base/tally.h"
-#include "estimators/discrete_sampler.h"
 #include "estimators/registry.h"
 #include "estimators/resampling_step.h"
 #include "harness/plan/plan.h"

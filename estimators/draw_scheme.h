@@ -14,8 +14,8 @@
 #include <span>
 #include <vector>
 
+#include "base/discrete_sampler.h"
 #include "base/rng.h"
-#include "estimators/discrete_sampler.h"
 
 namespace pcbench {
 

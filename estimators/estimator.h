@@ -13,9 +13,9 @@
 #include <span>
 #include <vector>
 
+#include "base/discrete_sampler.h"
 #include "base/rng.h"
 #include "base/tally.h"
-#include "estimators/discrete_sampler.h"
 #include "estimators/resampling_step.h"
 #include "integrands/integrand.h"
 

@@ -17,8 +17,8 @@
 #include <span>
 #include <vector>
 
+#include "base/discrete_sampler.h"
 #include "base/rng.h"
-#include "estimators/discrete_sampler.h"
 #include "estimators/draw_scheme.h"
 
 namespace pcbench {

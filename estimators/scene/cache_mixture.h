@@ -13,8 +13,8 @@
 #include <span>
 #include <vector>
 
+#include "base/discrete_sampler.h"
 #include "base/rng.h"
-#include "estimators/discrete_sampler.h"
 
 namespace pcbench::scene {
 

@@ -47,8 +47,8 @@
 #include <optional>
 #include <vector>
 
+#include "base/discrete_sampler.h"
 #include "base/errors.h"
-#include "estimators/discrete_sampler.h"
 #include "estimators/resampling_step.h"
 #include "estimators/scene/cache_mixture.h"
 #include "estimators/scene/cache_points.h"

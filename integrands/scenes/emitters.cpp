@@ -57,44 +57,11 @@ Emitters::Emitters(const SceneDescription& scene)
       triangle_pdf_area_[e.index] = e.pdf_area;
     }
   }
-  build_alias_table();
-}
-
-void Emitters::build_alias_table() {
-  // Vose's construction: every bucket holds 1/n of probability, an entry's own share below its
-  // threshold and the rest from one entry with more than 1/n (its alias), which then has that
-  // much less to place.
-  const std::size_t n = entries_.size();
-  alias_.assign(n, {1.0, 0});
-  std::vector<double> scaled(n);
-  std::vector<std::uint32_t> small, large;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    scaled[i] = entries_[i].probability * static_cast<double>(n);
-    (scaled[i] < 1.0 ? small : large).push_back(i);
-  }
-  while (!small.empty() && !large.empty()) {
-    const std::uint32_t below = small.back(), above = large.back();
-    small.pop_back();
-    large.pop_back();
-    alias_[below] = {scaled[below], above};
-    scaled[above] = (scaled[above] + scaled[below]) - 1.0;
-    (scaled[above] < 1.0 ? small : large).push_back(above);
-  }
-  // What is left holds 1/n to rounding: the whole bucket its own.
-  for (const std::uint32_t i : small) alias_[i] = {1.0, i};
-  for (const std::uint32_t i : large) alias_[i] = {1.0, i};
+  choice_.build(probabilities(), DiscreteSamplerKind::kAlias);
 }
 
 std::uint32_t Emitters::entry_for(double u_select) const {
-  // u_select · n names the bucket and, past its integer part, where in the bucket it falls: the
-  // same uniform serves both (the fraction is uniform and independent of the bucket).
-  const double x = u_select * static_cast<double>(alias_.size());
-  const std::size_t i = std::min(alias_.size() - 1, static_cast<std::size_t>(x));
-  const AliasBucket& bucket = alias_[i];
-  // A select on the bits: written as a ternary, GCC branched on a coin flip.
-  const std::uint32_t own =
-      0u - static_cast<std::uint32_t>(x - static_cast<double>(i) < bucket.threshold);
-  return (static_cast<std::uint32_t>(i) & own) | (bucket.alias & ~own);
+  return choice_.pick(u_select);
 }
 
 std::vector<double> Emitters::probabilities() const {
@@ -104,13 +71,7 @@ std::vector<double> Emitters::probabilities() const {
 }
 
 std::vector<double> Emitters::choice_probabilities() const {
-  const double n = static_cast<double>(alias_.size());
-  std::vector<double> p(alias_.size(), 0.0);
-  for (std::size_t i = 0; i < alias_.size(); ++i) {
-    p[i] += alias_[i].threshold / n;
-    p[alias_[i].alias] += (1.0 - alias_[i].threshold) / n;
-  }
-  return p;
+  return choice_.alias_probabilities();
 }
 
 double Emitters::pdf_area(std::uint32_t triangle) const {

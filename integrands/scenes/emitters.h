@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "base/discrete_sampler.h"
 #include "integrands/scenes/scene_description.h"
 #include "integrands/scenes/scene_math.h"
 
@@ -103,14 +104,8 @@ class Emitters {
   std::vector<double> choice_probabilities() const;
 
  private:
-  struct AliasBucket {
-    double threshold;  // the bucket's own entry below it, in [0, 1]
-    std::uint32_t alias;
-  };
-  void build_alias_table();
-
   std::vector<Entry> entries_;
-  std::vector<AliasBucket> alias_;         // one bucket per entry
+  DiscreteSampler choice_;                 // an alias table over entries_, ∝ power
   std::vector<double> triangle_pdf_area_;  // per triangle, 0 for a non-emitter
   std::uint32_t point_light_count_ = 0;
 };

@@ -1,4 +1,4 @@
-#include "estimators/discrete_sampler.h"
+#include "base/discrete_sampler.h"
 
 #include <algorithm>
 
@@ -44,6 +44,16 @@ void DiscreteSampler::build(std::span<const double> pmf, DiscreteSamplerKind kin
   // What is left is full up to rounding: keep it always.
   for (std::uint32_t i : small_) columns_[i].threshold = 1.0;
   for (std::uint32_t i : large_) columns_[i].threshold = 1.0;
+}
+
+std::vector<double> DiscreteSampler::alias_probabilities() const {
+  const double n = static_cast<double>(columns_.size());
+  std::vector<double> p(columns_.size(), 0.0);
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    p[i] += columns_[i].threshold / n;
+    p[columns_[i].alias] += (1.0 - columns_[i].threshold) / n;
+  }
+  return p;
 }
 
 std::uint32_t DiscreteSampler::index_at(double u) const {

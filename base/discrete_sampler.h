@@ -1,5 +1,5 @@
 // Drawing indices from a discrete distribution P over a pool of M entries, as probabilistic
-// connections do K times per camera sample.
+// connections do K times per camera sample and a scene's emitter choice once per light sample.
 //
 // Two ways, both O(M) to build: Vose's alias method (O(1) per draw; M. D. Vose, "A linear
 // algorithm for generating random numbers with a given distribution", IEEE TSE 1991) and the
@@ -9,6 +9,8 @@
 // table cannot bias the estimate.
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -44,6 +46,23 @@ class DiscreteSampler {
     // mispredicted branch there would hold up the lookups queued behind it.
     return numbers.u < column.threshold ? numbers.column : column.alias;
   }
+
+  // An alias table's draw from one uniform u in [0, 1): u·n names the column and, past its
+  // integer part, where in the column it falls (the fraction is uniform and independent of the
+  // column), so a caller that makes its uniforms in bulk needs one per draw. Branch-free: a
+  // resampling candidate picks its emitter this way, and a ternary here was a branch on a coin
+  // flip (GCC). Only for a table built as kAlias.
+  std::uint32_t pick(double u) const {
+    const double x = u * static_cast<double>(columns_.size());
+    const std::size_t i = std::min(columns_.size() - 1, static_cast<std::size_t>(x));
+    const Column& column = columns_[i];
+    const std::uint32_t own =
+        0u - static_cast<std::uint32_t>(x - static_cast<double>(i) < column.threshold);
+    return (static_cast<std::uint32_t>(i) & own) | (column.alias & ~own);
+  }
+  // The probability with which an alias table picks each index: what its columns imply, which
+  // equals the normalised pmf it was built from up to rounding (for tests).
+  std::vector<double> alias_probabilities() const;
 
   // The inverse CDF at u in [0, 1): the first index whose running sum exceeds u × total. Only for
   // a table built as kCdf (stratified and systematic draws need this map, not just any draw).
