@@ -184,14 +184,12 @@ template <std::size_t kVectors>
   return _mm512_mul_pd(sum, _mm512_set1_pd(0x1p-53));
 }
 
-// The blocks of 8 kVectors consecutive counters from `first` (word 0 counting up), and their
-// uniforms: u[2l] and u[2l + 1] from lane l's words 0-1 and 2-3. The lanes set their counters
-// up in registers, without a counters array, its loads and permutes, or a padded copy, which for
-// a stream's few blocks cost as much as their rounds; the conversions are the lanes' too.
+// 8 kVectors consecutive counters from `first` (word 0 counting up) in the lanes' registers, set
+// up there without a counters array, its loads and permutes, or a padded copy, which for a
+// stream's few blocks cost as much as their rounds.
 template <std::size_t kVectors>
-[[gnu::target("avx512f")]] void philox_uniforms_avx512(const PhiloxCounter& first, PhiloxKey k,
-                                                       PhiloxCounter* blocks, double* u) {
-  __m512i c[4][kVectors];
+[[gnu::target("avx512f")]] inline void consecutive_counters_avx512(const PhiloxCounter& first,
+                                                                   __m512i (&c)[4][kVectors]) {
   for (std::size_t v = 0; v < kVectors; ++v) {
     // Word 0 steps in the low half, wrapping there as ++counter[0] wraps.
     const auto lane = static_cast<std::int64_t>(v * kSlots512);
@@ -200,6 +198,25 @@ template <std::size_t kVectors>
                                                  lane + 5, lane + 6, lane + 7));
     for (std::size_t w = 1; w < 4; ++w) c[w][v] = _mm512_set1_epi64(first[w]);
   }
+}
+
+// The blocks of 8 kVectors consecutive counters from `first`.
+template <std::size_t kVectors>
+[[gnu::target("avx512f")]] void philox_blocks_avx512(const PhiloxCounter& first, PhiloxKey k,
+                                                     PhiloxCounter* blocks) {
+  __m512i c[4][kVectors];
+  consecutive_counters_avx512(first, c);
+  rounds_avx512(c, k);
+  store_avx512(c, blocks);
+}
+
+// The same blocks and their uniforms: u[2l] and u[2l + 1] from lane l's words 0-1 and 2-3,
+// converted in the lanes.
+template <std::size_t kVectors>
+[[gnu::target("avx512f")]] void philox_uniforms_avx512(const PhiloxCounter& first, PhiloxKey k,
+                                                       PhiloxCounter* blocks, double* u) {
+  __m512i c[4][kVectors];
+  consecutive_counters_avx512(first, c);
   rounds_avx512(c, k);
   store_avx512(c, blocks);
   const __m512i first_half = _mm512_setr_epi64(0, 8, 1, 9, 2, 10, 3, 11);
@@ -336,14 +353,35 @@ std::uint64_t run_key(std::uint64_t seed, std::uint64_t run_id_hash) {
 }
 
 void RandomStream::refill() {
-  block_ = philox4x32_10(counter_, key_);
-  ++counter_[0];
   next_ = 0;
+  if (ahead_next_ < ahead_end_) {
+    block_ = ahead_[ahead_next_++];
+    return;
+  }
+  if (!reads_ahead_) {
+    block_ = philox4x32_10(counter_, key_);
+    ++counter_[0];
+    return;
+  }
+  static const PhiloxLanes lanes = widest_lanes();
+  static_assert(kAhead == kSlots512, "one vector of AVX-512 lanes");
+  if (lanes == PhiloxLanes::kAvx512) {
+    philox_blocks_avx512<1>(counter_, key_, ahead_);
+  } else {
+    double unused[2 * kAhead];
+    philox_uniforms_with(lanes, counter_, key_, std::span(ahead_, kAhead),
+                         std::span(unused, 2 * kAhead));
+  }
+  counter_[0] += static_cast<std::uint32_t>(kAhead);
+  block_ = ahead_[0];
+  ahead_next_ = 1;
+  ahead_end_ = kAhead;
 }
 
 void RandomStream::uniforms(std::span<double> out) {
   std::size_t i = 0;
-  while (i < out.size() && next_ <= 2) out[i++] = uniform();  // what is left of this block
+  // What is left of this block and of the blocks computed ahead.
+  while (i < out.size() && (next_ <= 2 || ahead_next_ < ahead_end_)) out[i++] = uniform();
   // Whole blocks, a group at a time, their uniforms converted in the lanes that made them
   // (philox_uniforms_with); the last one stays the stream's block, its words read as far as
   // uniform() would have read them.

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <set>
 #include <vector>
 
@@ -138,6 +139,59 @@ TEST(RngStream, BulkUniformsAreTheOneByOneNumbers) {
       for (int k = 0; k < 3; ++k) {
         EXPECT_EQ(bulk.uniform(), one.uniform()) << lead << " " << count;
         EXPECT_EQ(bulk.uniform_index(1000), one.uniform_index(1000)) << lead << " " << count;
+      }
+    }
+  }
+}
+
+// A stream's numbers are its blocks in counter order, read as rng.h says, however they were
+// computed (one at a time, or several ahead in lanes after read_ahead()): a model made of
+// philox4x32_10 alone, against a long mix of uniform(), uniform_index() and uniforms() that crosses
+// many refills.
+TEST(RngStream, NumbersAreItsBlocksInCounterOrder) {
+  struct Model {
+    PhiloxKey key;
+    PhiloxCounter counter;
+    PhiloxCounter block{};
+    int next = 4;
+    void refill() {
+      block = philox4x32_10(counter, key);
+      ++counter[0];
+      next = 0;
+    }
+    double uniform() {
+      if (next > 2) refill();
+      const double u = RandomStream::uniform_of(block, next);
+      next += 2;
+      return u;
+    }
+    std::uint32_t uniform_index(std::uint32_t n) {
+      if (next >= 4) refill();
+      return static_cast<std::uint32_t>((std::uint64_t{block[next++]} * n) >> 32);
+    }
+  };
+  const StreamId id{
+      .key = 0xa5a5, .replicate = 7, .purpose = StreamPurpose::kCameraPath, .sample = 3, .path = 9};
+  for (const bool ahead : {false, true}) {
+    RandomStream stream(id);
+    if (ahead) stream.read_ahead();
+    Model model{RandomStream::key_of(id), RandomStream::first_counter(id)};
+    std::mt19937 choose(2024);
+    std::vector<double> bulk;
+    for (int op = 0; op < 3000; ++op) {
+      switch (choose() % 3) {
+        case 0:
+          ASSERT_EQ(stream.uniform(), model.uniform()) << ahead << " " << op;
+          break;
+        case 1:
+          ASSERT_EQ(stream.uniform_index(1000003), model.uniform_index(1000003))
+              << ahead << " " << op;
+          break;
+        default:
+          bulk.resize(choose() % 40);
+          stream.uniforms(bulk);
+          for (double u : bulk) ASSERT_EQ(u, model.uniform()) << ahead << " " << op;
+          break;
       }
     }
   }

@@ -112,6 +112,7 @@ void RenderServices::trace_pool(std::uint32_t index, std::uint32_t m, LightPool&
     lanes.lanes.clear();
     for (std::uint32_t j = first; j < end; ++j) {
       RandomStream& rng = lanes.streams.emplace_back(stream(StreamPurpose::kLightPool, index, j));
+      rng.read_ahead();  // a walk reads two uniforms a bounce
       std::optional<Walk> walk =
           start_light_path(scene_, rng, max_length_, pool.paths[j], chunk_counters[c]);
       if (walk) lanes.lanes.push_back({*walk, &rng, &pool.paths[j]});
@@ -173,6 +174,7 @@ void for_each_prefix(const RenderServices& services, std::uint32_t index, std::u
     const std::uint32_t pixel = y * width + x;
     const Subpath& camera = paths[x];
     RandomStream draws(services.stream(StreamPurpose::kResampling, index, pixel));
+    draws.read_ahead();  // K draws at every camera vertex (pcbpt, lvc), when the pass draws
     for (std::uint32_t t = 2; t <= camera.size(); ++t) {
       CameraPrefix prefix{.pixel = pixel,
                           .vertices = std::span<const PathVertex>(camera).first(t),
@@ -197,6 +199,7 @@ void RenderServices::walk_camera_row(std::uint32_t index, std::uint32_t y, Camer
   for (std::uint32_t x = 0; x < width_; ++x) {
     RandomStream& rng =
         row.streams.emplace_back(stream(StreamPurpose::kCameraPath, index, y * width_ + x));
+    rng.read_ahead();  // the walk's two uniforms a bounce, then next-event estimation's
     const double fx = x + rng.uniform(), fy = y + rng.uniform();
     const Walk walk = start_camera_path(scene_, fx, fy, max_length_, row.paths[x]);
     row.lanes.push_back({walk, &rng, &row.paths[x]});
