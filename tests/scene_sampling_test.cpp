@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -25,6 +26,7 @@
 #include "integrands/scenes/camera_model.h"
 #include "integrands/scenes/emitters.h"
 #include "integrands/scenes/scene.h"
+#include "integrands/scenes/turn_trig.h"
 #include "tests/test_support.h"
 
 namespace pcbench::scene {
@@ -297,21 +299,44 @@ TEST(SceneSamplingBsdf, FrameIsOrthonormal) {
 // the series' error (1.6 × 2^-53 against long double, measured) and libm's: its argument 2πu is
 // rounded first, by up to 2^-51 near a full turn (6.5 × 2^-53 apart at most over 2 × 10^7 random u,
 // measured).
-TEST(SceneSamplingBsdf, AzimuthMatchesLibm) {
+std::vector<double> azimuth_test_turns() {
   RandomStream rng({.key = 901});
   std::vector<double> us = {0.0, std::nextafter(1.0, 0.0)};
   for (int k = 1; k < 64; ++k) {
     us.push_back(k / 64.0);
     us.push_back(std::nextafter(k / 64.0, 0.0));
+    us.push_back(std::nextafter(k / 64.0, 1.0));
   }
   for (int i = 0; i < 100000; ++i) us.push_back(rng.uniform());
+  return us;
+}
+
+TEST(SceneSamplingBsdf, AzimuthMatchesLibm) {
   double worst = 0.0;
-  for (const double u : us) {
+  for (const double u : azimuth_test_turns()) {
     const CosSin cs = cos_sin_of_turn(u);
     worst = std::max({worst, std::abs(cs.cos - std::cos(2.0 * kPi * u)),
                       std::abs(cs.sin - std::sin(2.0 * kPi * u))});
   }
   EXPECT_LE(worst, 8.0 * 0x1.0p-53);
+}
+
+// A round of walks computes its azimuths in SIMD lanes (cos_sin_of_turns, the widest clone the
+// machine has): the scalar function's bits at every u above, the batch's length no multiple of a
+// vector's so that the loop's remainder runs too; bit for bit is what keeps the walks' paths.
+TEST(SceneSamplingBsdf, AzimuthsInLanesAreTheScalarOnesToTheBit) {
+  const std::vector<double> us = azimuth_test_turns();
+  ASSERT_NE(us.size() % 16, 0U);
+  std::vector<double> cos(us.size()), sin(us.size());
+  cos_sin_of_turns(us, cos, sin);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < us.size(); ++i) {
+    const CosSin cs = cos_sin_of_turn(us[i]);
+    differ += static_cast<std::size_t>(
+        std::bit_cast<std::uint64_t>(cs.cos) != std::bit_cast<std::uint64_t>(cos[i]) ||
+        std::bit_cast<std::uint64_t>(cs.sin) != std::bit_cast<std::uint64_t>(sin[i]));
+  }
+  EXPECT_EQ(differ, 0U);
 }
 
 // Grazing Phong lobes lose much of their mass below the surface; the test above must then

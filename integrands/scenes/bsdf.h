@@ -41,12 +41,18 @@ struct BsdfValue {
 inline BsdfValue bsdf_value(const Material& material, const Vec3& normal, const Vec3& wo,
                             const Vec3& wi);
 
-// Samples wi given wo from two uniforms.
+// Samples wi given wo from two uniforms. The second form takes u2 as its azimuth,
+// cos_sin_of_turn(u2), computed beforehand: a round of walks in lanes computes them together
+// (cos_sin_of_turns).
 inline BsdfSample bsdf_sample(const Material& material, const Vec3& normal, const Vec3& wo,
                               double u1, double u2);
+inline BsdfSample bsdf_sample(const Material& material, const Vec3& normal, const Vec3& wo,
+                              double u1, CosSin azimuth);
 
-// A direction with density cos θ / π about `normal` (which must be a unit vector).
+// A direction with density cos θ / π about `normal` (which must be a unit vector); the second
+// form with u2's azimuth given, as bsdf_sample's.
 inline Vec3 sample_cosine_hemisphere(const Vec3& normal, double u1, double u2);
+inline Vec3 sample_cosine_hemisphere(const Vec3& normal, double u1, CosSin azimuth);
 
 inline bool is_delta(const Material& material);
 
@@ -85,11 +91,13 @@ inline bool is_delta(const Material& material) {
   return material.kind == MaterialKind::kMirror;
 }
 
-inline Vec3 sample_cosine_hemisphere(const Vec3& normal, double u1, double u2) {
+inline Vec3 sample_cosine_hemisphere(const Vec3& normal, double u1, CosSin azimuth) {
   const double r = std::sqrt(u1);
-  const CosSin phi = cos_sin_of_turn(u2);
-  const Vec3 local{r * phi.cos, r * phi.sin, std::sqrt(std::max(0.0, 1.0 - u1))};
+  const Vec3 local{r * azimuth.cos, r * azimuth.sin, std::sqrt(std::max(0.0, 1.0 - u1))};
   return Frame(normal).to_world(local);
+}
+inline Vec3 sample_cosine_hemisphere(const Vec3& normal, double u1, double u2) {
+  return sample_cosine_hemisphere(normal, u1, cos_sin_of_turn(u2));
 }
 
 inline Rgb bsdf_eval(const Material& material, const Vec3& normal, const Vec3& wo, const Vec3& wi) {
@@ -145,19 +153,19 @@ inline BsdfValue bsdf_value(const Material& material, const Vec3& normal, const 
 }
 
 inline BsdfSample bsdf_sample(const Material& material, const Vec3& normal, const Vec3& wo,
-                              double u1, double u2) {
+                              double u1, CosSin azimuth) {
   const Vec3 n = bsdf_detail::facing(normal, wo);
   BsdfSample s;
   switch (material.kind) {
     case MaterialKind::kDiffuse:
-      s.wi = sample_cosine_hemisphere(n, u1, u2);
+      s.wi = sample_cosine_hemisphere(n, u1, azimuth);
       break;
     case MaterialKind::kPhong: {
       // cos α distributed with density ∝ cos^e α about the mirror direction.
       const double cos_alpha = std::pow(1.0 - u1, 1.0 / (material.exponent + 1.0));
       const double sin_alpha = std::sqrt(std::max(0.0, 1.0 - cos_alpha * cos_alpha));
-      const CosSin phi = cos_sin_of_turn(u2);
-      s.wi = Frame(reflect(wo, n)).to_world({sin_alpha * phi.cos, sin_alpha * phi.sin, cos_alpha});
+      s.wi = Frame(reflect(wo, n))
+                 .to_world({sin_alpha * azimuth.cos, sin_alpha * azimuth.sin, cos_alpha});
       break;
     }
     case MaterialKind::kMirror: {
@@ -174,6 +182,11 @@ inline BsdfSample bsdf_sample(const Material& material, const Vec3& normal, cons
   s.f = bsdf_eval(material, n, wo, s.wi);
   s.valid = s.pdf > 0.0 && dot(n, s.wi) > 0.0;
   return s;
+}
+
+inline BsdfSample bsdf_sample(const Material& material, const Vec3& normal, const Vec3& wo,
+                              double u1, double u2) {
+  return bsdf_sample(material, normal, wo, u1, cos_sin_of_turn(u2));
 }
 
 }  // namespace pcbench::scene

@@ -1,5 +1,7 @@
 #include "integrands/scenes/path_lanes.h"
 
+#include "integrands/scenes/turn_trig.h"
+
 namespace pcbench::scene {
 
 void walk_lanes(const Scene& scene, std::span<WalkLane> lanes, LaneBuffers& buffers,
@@ -22,10 +24,29 @@ void walk_lanes(const Scene& scene, std::span<WalkLane> lanes, LaneBuffers& buff
     }
     rays += n;
     scene.intersect_many(buffers.origins, buffers.directions, buffers.hits, buffers.found);
-    buffers.next.clear();
+    // walk_step for each lane, in two halves around the round's azimuths (see the header).
+    std::vector<std::uint32_t>& scattering = buffers.scattering;
+    scattering.clear();
+    buffers.u1.resize(n);
+    buffers.u2.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
       WalkLane& lane = lanes[active[k]];
-      if (buffers.found[k] && walk_step(scene, *lane.rng, buffers.hits[k], *lane.path, lane.walk)) {
+      if (!buffers.found[k] || !walk_arrive(scene, buffers.hits[k], *lane.path, lane.walk))
+        continue;
+      buffers.u1[scattering.size()] = lane.rng->uniform();
+      buffers.u2[scattering.size()] = lane.rng->uniform();
+      scattering.push_back(static_cast<std::uint32_t>(k));
+    }
+    const std::size_t m = scattering.size();
+    buffers.cos.resize(m);
+    buffers.sin.resize(m);
+    cos_sin_of_turns(std::span(buffers.u2).first(m), buffers.cos, buffers.sin);
+    buffers.next.clear();
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::uint32_t k = scattering[j];
+      WalkLane& lane = lanes[active[k]];
+      if (walk_scatter(scene, buffers.hits[k], buffers.u1[j], {buffers.cos[j], buffers.sin[j]},
+                       *lane.path, lane.walk)) {
         buffers.next.push_back(active[k]);
       }
     }

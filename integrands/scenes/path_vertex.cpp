@@ -21,39 +21,52 @@ void random_walk(const Scene& scene, RandomStream& rng, Walk& walk, std::vector<
   }
 }
 
+// The segment's length is the hit distance: the area conversions need no square root.
+double inv_distance_squared(const Hit& hit) {
+  return 1.0 / (hit.distance * hit.distance);
+}
+
 }  // namespace
 
 bool walk_step(const Scene& scene, RandomStream& rng, const Hit& hit, std::vector<PathVertex>& path,
                Walk& walk) {
+  if (!walk_arrive(scene, hit, path, walk)) return false;
+  const double u1 = rng.uniform(), u2 = rng.uniform();
+  return walk_scatter(scene, hit, u1, cos_sin_of_turn(u2), path, walk);
+}
+
+bool walk_arrive(const Scene& scene, const Hit& hit, std::vector<PathVertex>& path,
+                 const Walk& walk) {
   const PathVertex& previous = path.back();
   const Vec3 direction = walk.direction;
-  // The segment's length is the hit distance: the area conversions below need no square root.
-  const double inv_distance_squared = 1.0 / (hit.distance * hit.distance);
   const Vec3& normal = scene.normal(hit.triangle);
   const double pdf_fwd =
       walk.previous_delta
           ? 0.0
-          : walk.direction_pdf * std::abs(dot(normal, direction)) * inv_distance_squared;
-  const Material& material = scene.material(hit.triangle);
+          : walk.direction_pdf * std::abs(dot(normal, direction)) * inv_distance_squared(hit);
   // Every member given, so nothing is zeroed first (a local vertex zeroed with rep stos and
   // copied in had stalled). Braces, not emplace_back's parentheses: clang 15 (Debian 12's, the
   // asan build) has no parenthesised aggregate initialisation.
-  const PathVertex& v = path.emplace_back(
-      PathVertex{VertexKind::kSurface, previous.position + hit.distance * direction, normal,
-                 -direction, hit.triangle, walk.beta, pdf_fwd, 0.0, is_delta(material), false});
-  if (path.size() == walk.max_vertices) return false;
+  path.emplace_back(PathVertex{VertexKind::kSurface, previous.position + hit.distance * direction,
+                               normal, -direction, hit.triangle, walk.beta, pdf_fwd, 0.0,
+                               is_delta(scene.material(hit.triangle)), false});
+  return path.size() != walk.max_vertices;
+}
 
-  const double u1 = rng.uniform(), u2 = rng.uniform();
-  const BsdfSample s = bsdf_sample(material, v.normal, v.to_previous, u1, u2);
+bool walk_scatter(const Scene& scene, const Hit& hit, double u1, CosSin azimuth,
+                  std::vector<PathVertex>& path, Walk& walk) {
+  PathVertex& current = path.back();
+  const Material& material = scene.material(hit.triangle);
+  const BsdfSample s = bsdf_sample(material, current.normal, current.to_previous, u1, azimuth);
   if (!s.valid) return false;
-  walk.beta = walk.beta * s.f * (std::abs(dot(s.wi, v.normal)) / s.pdf);
+  walk.beta = walk.beta * s.f * (std::abs(dot(s.wi, current.normal)) / s.pdf);
   if (walk.beta.is_black()) return false;
   // The density of walking back from the next vertex to the previous one, at the previous.
-  PathVertex& current = path.back();
   PathVertex& before = path[path.size() - 2];
-  before.pdf_rev = s.delta ? 0.0
-                           : bsdf_pdf(material, current.normal, s.wi, current.to_previous) *
-                                 abs_cos_at(before, current.to_previous) * inv_distance_squared;
+  before.pdf_rev = s.delta
+                       ? 0.0
+                       : bsdf_pdf(material, current.normal, s.wi, current.to_previous) *
+                             abs_cos_at(before, current.to_previous) * inv_distance_squared(hit);
   walk.direction = s.wi;
   walk.direction_pdf = s.pdf;
   walk.previous_delta = s.delta;

@@ -13,6 +13,7 @@
 
 #include "base/rng.h"
 #include "integrands/scenes/scene.h"
+#include "integrands/scenes/turn_trig.h"
 
 namespace pcbench::scene {
 
@@ -76,9 +77,17 @@ std::optional<Walk> start_light_path(const Scene& scene, RandomStream& rng,
                                      TraceCounters& counters);
 // One step of a walk whose ray hit `hit`: adds the vertex and samples the next direction from
 // `rng`. False when the walk ends here (the path is full, or the sample is invalid or black).
-// The walks below and the lanes of path_lanes.h are this step after each ray.
+// The walks below are this step after each ray.
 bool walk_step(const Scene& scene, RandomStream& rng, const Hit& hit, std::vector<PathVertex>& path,
                Walk& walk);
+// walk_step in two halves, for the lanes of path_lanes.h, which sample a round's azimuths
+// together in between: walk_arrive adds the vertex, false when the path is then full;
+// walk_scatter samples the next direction from u1 and the azimuth cos_sin_of_turn(u2) of the
+// step's two uniforms, false when the walk ends there.
+bool walk_arrive(const Scene& scene, const Hit& hit, std::vector<PathVertex>& path,
+                 const Walk& walk);
+bool walk_scatter(const Scene& scene, const Hit& hit, double u1, CosSin azimuth,
+                  std::vector<PathVertex>& path, Walk& walk);
 
 // Camera subpath through film position (fx, fy): y0 at the camera, then up to
 // max_length surface vertices. Clears `path` first.
