@@ -6,6 +6,20 @@
 #include "base/lane_select.h"
 
 namespace pcbench::scene {
+namespace {
+
+// A uniform point of the unit square folded onto the triangle a, b >= 0, a + b <= 1 (the half
+// past the diagonal reflected through it), by selects: the fold is a coin flip, which as a
+// branch was mispredicted half the time, and selects let sample_many's loop run in lanes.
+struct Folded {
+  double a, b;
+};
+Folded fold_unit_square(double u1, double u2) {
+  const bool fold = u1 + u2 > 1.0;
+  return {lane_select(fold, 1.0 - u1, u1), lane_select(fold, 1.0 - u2, u2)};
+}
+
+}  // namespace
 
 double triangle_area(const Triangle& t) {
   return 0.5 * length(cross(t.p1 - t.p0, t.p2 - t.p0));
@@ -88,12 +102,7 @@ EmitterPoint Emitters::point_on(const Entry& e, double u1, double u2) {
             .point_light = true,
             .index = e.index};
   }
-  // Uniform on the triangle by folding the unit square.
-  double a = u1, b = u2;
-  if (a + b > 1.0) {
-    a = 1.0 - a;
-    b = 1.0 - b;
-  }
+  const auto [a, b] = fold_unit_square(u1, u2);
   return {.position = e.p0 + a * e.edge1 + b * e.edge2,
           .normal = e.normal,
           .radiance = e.radiance,
@@ -109,16 +118,13 @@ EmitterPoint Emitters::sample(double u_select, double u1, double u2) const {
 void Emitters::sample_many(std::span<const double> u, EmitterPoints& out) const {
   out.size = u.size() / 3;
   // The entries first, then the points: the choices are independent of each other, and apart
-  // from the rows they load the loops overlap them. point_on's arithmetic without its branches
-  // (the fold of the unit square is a coin flip, mispredicted half the time): a point light's
-  // row has no edges and its position is taken as it is.
+  // from the rows they load the loops overlap them. point_on's arithmetic without its branch on
+  // a point light, whose row has no edges and whose position is taken as it is.
   std::uint32_t chosen[EmitterPoints::kCapacity];
   for (std::size_t j = 0; j < out.size; ++j) chosen[j] = entry_for(u[3 * j]);
   for (std::size_t j = 0; j < out.size; ++j) {
     const Entry& e = entries_[chosen[j]];
-    const double u1 = u[3 * j + 1], u2 = u[3 * j + 2];
-    const bool fold = u1 + u2 > 1.0;
-    const double a = lane_select(fold, 1.0 - u1, u1), b = lane_select(fold, 1.0 - u2, u2);
+    const auto [a, b] = fold_unit_square(u[3 * j + 1], u[3 * j + 2]);
     out.x[j] = lane_select(e.point_light, e.p0.x, e.p0.x + a * e.edge1.x + b * e.edge2.x);
     out.y[j] = lane_select(e.point_light, e.p0.y, e.p0.y + a * e.edge1.y + b * e.edge2.y);
     out.z[j] = lane_select(e.point_light, e.p0.z, e.p0.z + a * e.edge1.z + b * e.edge2.z);
