@@ -17,11 +17,12 @@ Per set it prints the replicates, spp, relative MSE per replicate against REF �
 values of (x − ref)² / scale², scale = ref + 1% of ref's mean, less REF's own relative variance
 (mean of (stderr / scale)²), as harness/verify/image_errors.cpp computes `rel_mse_per_replicate`
 — the replicates' own relative variance about their mean (the same without REF: the two differ
-by the set's squared bias against REF, and by noise), relative MSE × spp (error per sample), CPU
-s per replicate, µs per sample (CPU over W × H × spp), relative MSE × CPU s (pcbench's
-`rel_mse_at_1_cpu_second`: mean relative MSE × mean CPU) and its ratio to the baseline. The
-interval is a percentile bootstrap, 10000 resamples of each set's replicates, independently per
-set. --per-replicate writes every replicate's row (set, file, relative MSE, CPU s, product).
+by the set's squared bias against REF, and by noise), CPU s per replicate, relative MSE × CPU s
+(pcbench's `rel_mse_at_1_cpu_second`: mean relative MSE × mean CPU) and its ratio to the
+baseline's, then that ratio's two factors: error per sample (relative MSE × spp) and cost per
+sample (µs per pixel sample: CPU / (W × H × spp)), each ÷ the baseline's. Intervals are 95%
+percentile bootstraps, 10000 resamples of each set's replicates, independently per set.
+--per-replicate writes every replicate's row (set, file, relative MSE, CPU s, product).
 """
 import argparse
 import csv
@@ -88,9 +89,16 @@ def load(name, source, reference, scale, own):
 
 
 def bootstrap(s, rng, count=10000):
+    """Resampled means of relative MSE × spp and of CPU s / spp (error and cost per sample)."""
     n = len(s["errors"])
     picks = rng.integers(0, n, (count, n))
-    return s["errors"][picks].mean(1) * s["cpu"][picks].mean(1)
+    return s["errors"][picks].mean(1) * s["spp"], s["cpu"][picks].mean(1) / s["spp"]
+
+
+def interval(draws, name, baseline, f):
+    """f(name's figures) / f(baseline's figures): its 95% percentile interval, as text."""
+    low, high = np.percentile(f(*draws[name]) / f(*draws[baseline]), [2.5, 97.5])
+    return f"{low:.3f}–{high:.3f}"
 
 
 def main():
@@ -110,30 +118,35 @@ def main():
         sets[name] = load(name, source, reference, scale, own)
     baseline = args.baseline or next(iter(sets))
     rng = np.random.default_rng(1)
-    draws = {name: bootstrap(s, rng) for name, s in sets.items() if np.isfinite(s["cpu"]).all()}
+    draws = {name: bootstrap(s, rng) for name, s in sets.items()}
     pixels = reference.shape[0] * reference.shape[1]
     print(f"reference {args.reference}: own relative variance {own:.3g} (taken off), "
           f"scale = ref + {FLOOR:g} × {reference.mean():.4g}")
     print()
-    print(f"| set | replicates | spp | rel MSE | rel variance | rel MSE × spp | CPU s | "
-          f"µs/sample | rel MSE × CPU s | ÷ {baseline} (95%) |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print(f"| set | replicates | spp | rel MSE | rel variance | CPU s | rel MSE × CPU s | "
+          f"÷ {baseline} (95%) | error/sample ÷ {baseline} | µs/sample | ÷ {baseline} |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    base = sets[baseline]
+    base_error, base_cost = base["errors"].mean() * base["spp"], base["cpu"].mean() / base["spp"]
     for name, s in sets.items():
         e, c = float(s["errors"].mean()), float(s["cpu"].mean())
+        error, cost = e * s["spp"], c / s["spp"]
+        timed = np.isfinite(s["cpu"]).all() and np.isfinite(base["cpu"]).all()
         cells = [f"`{name}`", f"{len(s['errors'])}", f"{s['spp']}", f"{e:.4g}",
-                 f"{s['spread']:.4g}", f"{e * s['spp']:.4g}"]
-        if name in draws:
-            product = e * c
-            cells += [f"{c:.3f}", f"{c / (pixels * s['spp']) * 1e6:.4f}", f"{product:.4g}"]
-            if baseline in draws:
-                ratio = draws[name] / draws[baseline]
-                low, high = np.percentile(ratio, [2.5, 97.5])
-                base = float(sets[baseline]["errors"].mean() * sets[baseline]["cpu"].mean())
-                cells.append(f"{product / base:.3f} ({low:.3f}–{high:.3f})")
-            else:
-                cells.append("—")
+                 f"{s['spread']:.4g}"]
+        if timed:
+            product = interval(draws, name, baseline, lambda a, b: a * b)
+            cells += [f"{c:.3f}", f"{e * c:.4g}",
+                      f"{error * cost / (base_error * base_cost):.3f} ({product})"]
         else:
-            cells += ["—"] * 4
+            cells += ["—", "—", "—"]
+        per_sample = interval(draws, name, baseline, lambda a, b: a)
+        cells.append(f"{error / base_error:.3f} ({per_sample})")
+        if timed:
+            per_cost = interval(draws, name, baseline, lambda a, b: b)
+            cells += [f"{cost / pixels * 1e6:.4f}", f"{cost / base_cost:.3f} ({per_cost})"]
+        else:
+            cells += ["—", "—"]
         print("| " + " | ".join(cells) + " |")
     if args.per_replicate:
         with open(args.per_replicate, "w") as out:
