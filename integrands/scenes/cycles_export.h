@@ -30,7 +30,9 @@
 //   emitters seen directly); Cycles' max_bounces B counts bounces after the first hit and always
 //   adds direct light there, so its paths have at most B + 2 segments: B = L - 2 for the total
 //   and for each kind (diffuse, glossy, transmission, transparent; volume 0). L = 1 has no
-//   Cycles setting: refused. Russian roulette is unbiased in both; min_light_bounces 0.
+//   Cycles setting: refused. Cycles ends paths by Russian roulette after min_light_bounces (0
+//   here, Blender's default), which is unbiased; pcbench's walks have none, so the two differ in
+//   variance and cost per sample, not in expectation (docs/findings/cycles-cost.md measures it).
 // - Unbiased and independent replicates: adaptive sampling off, light threshold 0, clamping off
 //   (direct and indirect), filter glossy 0, caustics on, denoising off, path guiding off, no
 //   animated seed, scrambling distance 1, seed = first seed + replicate; the world is black.
