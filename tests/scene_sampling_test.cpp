@@ -294,11 +294,8 @@ TEST(SceneSamplingBsdf, FrameIsOrthonormal) {
   EXPECT_EQ(bad, 0);
 }
 
-// The samplers' azimuth: cos_sin_of_turn(u) against libm's cos and sin of 2πu, at every octant
-// boundary (where the reduction switches) and at random u. The bound, 8 × 2^-53 absolute, allows
-// the series' error (1.6 × 2^-53 against long double, measured) and libm's: its argument 2πu is
-// rounded first, by up to 2^-51 near a full turn (6.5 × 2^-53 apart at most over 2 × 10^7 random u,
-// measured).
+// The turns the azimuth tests take: every octant boundary and its neighbours on both sides
+// (where the reduction switches), then random u.
 std::vector<double> azimuth_test_turns() {
   RandomStream rng({.key = 901});
   std::vector<double> us = {0.0, std::nextafter(1.0, 0.0)};
@@ -311,6 +308,10 @@ std::vector<double> azimuth_test_turns() {
   return us;
 }
 
+// The samplers' azimuth: cos_sin_of_turn(u) against libm's cos and sin of 2πu, at the turns
+// above. The bound, 8 × 2^-53 absolute, allows the series' error (1.6 × 2^-53 against long
+// double, measured) and libm's: its argument 2πu is rounded first, by up to 2^-51 near a full
+// turn (6.5 × 2^-53 apart at most over 2 × 10^7 random u, measured).
 TEST(SceneSamplingBsdf, AzimuthMatchesLibm) {
   double worst = 0.0;
   for (const double u : azimuth_test_turns()) {
@@ -324,6 +325,8 @@ TEST(SceneSamplingBsdf, AzimuthMatchesLibm) {
 // A round of walks computes its azimuths in SIMD lanes (cos_sin_of_turns, the widest clone the
 // machine has): the scalar function's bits at every u above, the batch's length no multiple of a
 // vector's so that the loop's remainder runs too; bit for bit is what keeps the walks' paths.
+// Only the clone this machine selects runs here (AVX-512 on the CI machine); the others are
+// checked where they are selected, by this test and by estimators.hashes.
 TEST(SceneSamplingBsdf, AzimuthsInLanesAreTheScalarOnesToTheBit) {
   const std::vector<double> us = azimuth_test_turns();
   ASSERT_NE(us.size() % 16, 0U);
