@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "integrands/scenes/next_event_batch.h"
 #include "integrands/scenes/render_services.h"
 
 namespace pcbench::scene {
@@ -59,16 +60,28 @@ void ConnectionBatch::connect_all(const Scene& scene, const StrategyCounts& coun
                                   std::span<std::optional<PixelPosition>> pixels) {
   shadows_.clear();
   shadowed_.clear();
+  // Next-event connections under counts with nothing else (pt) in lanes, value and weight
+  // together (next_event_batch.h); any others one at a time through connect() and mis_weight().
+  const bool next_events = pixels.empty() && next_event_only(counts) && all_next_events(pairs);
+  if (next_events) {
+    weights_.resize(pairs.size());
+    next_event_values_and_weights(scene, counts, pairs, values, weights_, counters);
+  }
+  const auto weight = [&](std::uint32_t i) {
+    return next_events ? weights_[i] : mis_weight(scene, pairs[i].light, pairs[i].camera, counts);
+  };
   // The unweighted, unoccluded values; the shadow rays of those that are not black.
   for (std::uint32_t i = 0; i < pairs.size(); ++i) {
     const ConnectionPair& pair = pairs[i];
-    std::optional<PixelPosition>* pixel = pixels.empty() ? nullptr : &pixels[i];
-    values[i] = scene::connect(scene, pair.light, pair.camera, counts,
-                               {.visibility = false, .weighted = false}, counters, pixel);
+    if (!next_events) {
+      std::optional<PixelPosition>* pixel = pixels.empty() ? nullptr : &pixels[i];
+      values[i] = scene::connect(scene, pair.light, pair.camera, counts,
+                                 {.visibility = false, .weighted = false}, counters, pixel);
+    }
     if (values[i].is_black()) continue;
     if (scene.traits().convex_enclosure) {
       ++counters.skipped_convex;
-      values[i] = values[i] * mis_weight(scene, pair.light, pair.camera, counts);
+      values[i] = values[i] * weight(i);
       continue;
     }
     shadows_.push_back(scene.shadow_ray(pair.light.back().position, pair.camera.back().position));
@@ -84,7 +97,7 @@ void ConnectionBatch::connect_all(const Scene& scene, const StrategyCounts& coun
       values[i] = {};
       continue;
     }
-    values[i] = values[i] * mis_weight(scene, pairs[i].light, pairs[i].camera, counts);
+    values[i] = values[i] * weight(i);
   }
 }
 

@@ -40,6 +40,7 @@ class ConnectionBatch {
                    TraceCounters& counters, std::span<std::optional<PixelPosition>> pixels = {});
 
  private:
+  std::vector<double> weights_;  // next_event_batch.h's, when it computed the values
   std::vector<Scene::ShadowRay> shadows_;
   std::vector<std::uint32_t> shadowed_;  // the pair each shadow ray decides
   std::vector<std::uint8_t> blocked_;

@@ -1,0 +1,173 @@
+#include "integrands/scenes/next_event_batch.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "base/lane_select.h"
+#include "integrands/scenes/bsdf.h"
+
+namespace pcbench::scene {
+namespace {
+
+constexpr std::size_t kChunk = 64;  // connections a pass of the lanes takes
+
+// A chunk's connections in structure-of-arrays form: x = x_0 (the emitter vertex), y = y_{t-1}.
+// A connection that connect() drops before its segment (a delta end) has all its inputs 0,
+// which makes its segment empty and so its value 0, as it must be.
+struct Chunk {
+  std::size_t size = 0;
+  // Gathered, one connection at a time.
+  double x_x[kChunk], x_y[kChunk], x_z[kChunk];     // x's position
+  double xn_x[kChunk], xn_y[kChunk], xn_z[kChunk];  // x's normal (0 at a point light)
+  double point_light[kChunk];                       // 1 or 0
+  double le_r[kChunk], le_g[kChunk], le_b[kChunk];  // x's radiance in front of it (or intensity)
+  double xb_r[kChunk], xb_g[kChunk], xb_b[kChunk];  // x's beta, 1 / p(x)
+  double x_pdf[kChunk];                             // p(x), x's pdf_fwd
+  double y_x[kChunk], y_y[kChunk], y_z[kChunk];     // y's position
+  double yn_x[kChunk], yn_y[kChunk], yn_z[kChunk];  // y's normal
+  double yf_x[kChunk], yf_y[kChunk], yf_z[kChunk];  // y's normal turned to wo (bsdf_detail::facing)
+  double wo_in_front[kChunk];  // 1 when dot(facing, wo) > 0: bsdf_value's first same-side test
+  double yb_r[kChunk], yb_g[kChunk], yb_b[kChunk];  // y's beta
+  double fd_r[kChunk], fd_g[kChunk], fd_b[kChunk];  // a Lambertian y's albedo / π
+  // Computed in lanes (f and pdf_y by bsdf_value where y is not Lambertian).
+  double w_x[kChunk], w_y[kChunk], w_z[kChunk];  // the segment's direction, x to y
+  double distance_squared[kChunk], inv_distance_squared[kChunk];
+  double cos_x[kChunk], geometry[kChunk];
+  double f_r[kChunk], f_g[kChunk], f_b[kChunk];  // f_y(wo, -w)
+  double pdf_y[kChunk];                          // of sampling -w at y given wo
+};
+
+// The segment, emission and geometry terms, and a Lambertian y's f and density, as connect()
+// computes them (segment_between, emitted_towards, abs_cos_at, bsdf_value).
+[[gnu::target_clones("avx512f", "avx2", "default")]] void segments_and_ends(Chunk& c) {
+  for (std::size_t j = 0; j < c.size; ++j) {
+    const double dx = c.y_x[j] - c.x_x[j], dy = c.y_y[j] - c.x_y[j], dz = c.y_z[j] - c.x_z[j];
+    const double distance_squared = dx * dx + dy * dy + dz * dz;
+    const double distance = std::sqrt(distance_squared);
+    const double inv_distance = 1.0 / distance;
+    const double wx = dx * inv_distance, wy = dy * inv_distance, wz = dz * inv_distance;
+    c.w_x[j] = wx;
+    c.w_y[j] = wy;
+    c.w_z[j] = wz;
+    c.distance_squared[j] = distance_squared;
+    c.inv_distance_squared[j] = inv_distance * inv_distance;
+    const bool point_light = c.point_light[j] != 0.0;
+    const double cos_at_x = c.xn_x[j] * wx + c.xn_y[j] * wy + c.xn_z[j] * wz;
+    const bool emits = point_light | (cos_at_x > 0.0);
+    c.le_r[j] = lane_select(emits, c.le_r[j], 0.0);
+    c.le_g[j] = lane_select(emits, c.le_g[j], 0.0);
+    c.le_b[j] = lane_select(emits, c.le_b[j], 0.0);
+    c.cos_x[j] = lane_select(point_light, 1.0, std::abs(cos_at_x));
+    const double cos_y = std::abs(c.yn_x[j] * wx + c.yn_y[j] * wy + c.yn_z[j] * wz);
+    c.geometry[j] = c.cos_x[j] * cos_y * c.inv_distance_squared[j];
+    // f and the density of a Lambertian y towards wi = -w.
+    const double n_wi = c.yf_x[j] * -wx + c.yf_y[j] * -wy + c.yf_z[j] * -wz;
+    const bool same_side = (c.wo_in_front[j] != 0.0) & (n_wi > 0.0);
+    c.f_r[j] = lane_select(same_side, c.fd_r[j], 0.0);
+    c.f_g[j] = lane_select(same_side, c.fd_g[j], 0.0);
+    c.f_b[j] = lane_select(same_side, c.fd_b[j], 0.0);
+    c.pdf_y[j] = lane_select(same_side, n_wi * kInvPi, 0.0);
+  }
+}
+
+// connect()'s value, ((x.beta · Le) · f) · y.beta · G, and the weight n_1 / (n_1 + n_0 ratio),
+// ratio = remap0(p_y |cos_x| / d²) / remap0(p(x)) as balance_weight forms it (0 at a point
+// light). Returns the connections whose value is 0 with a segment of nonzero length
+// (skipped_zero).
+[[gnu::target_clones("avx512f", "avx2", "default")]] std::size_t values_and_weights(
+    const Chunk& c, double next_event, double emitter_hit, double* red, double* green,
+    double* blue, double* weights) {
+  std::size_t skipped_zero = 0;
+  for (std::size_t j = 0; j < c.size; ++j) {
+    const double r = c.xb_r[j] * c.le_r[j] * c.f_r[j] * c.yb_r[j] * c.geometry[j];
+    const double g = c.xb_g[j] * c.le_g[j] * c.f_g[j] * c.yb_g[j] * c.geometry[j];
+    const double b = c.xb_b[j] * c.le_b[j] * c.f_b[j] * c.yb_b[j] * c.geometry[j];
+    const bool segment = c.distance_squared[j] != 0.0;
+    const bool black = (r == 0.0) & (g == 0.0) & (b == 0.0);
+    const bool keep = segment & !black;
+    skipped_zero += static_cast<std::size_t>(segment & black);
+    red[j] = lane_select(keep, r, 0.0);
+    green[j] = lane_select(keep, g, 0.0);
+    blue[j] = lane_select(keep, b, 0.0);
+    const double light_end = c.pdf_y[j] * c.cos_x[j] * c.inv_distance_squared[j];
+    const double ratio = lane_select(light_end != 0.0, light_end, 1.0) /
+                         lane_select(c.x_pdf[j] != 0.0, c.x_pdf[j], 1.0);
+    const double others = lane_select(c.point_light[j] != 0.0, 0.0, ratio * emitter_hit);
+    weights[j] = next_event / (next_event + others);
+  }
+  return skipped_zero;
+}
+
+}  // namespace
+
+bool next_event_only(const StrategyCounts& counts) {
+  return counts.connection <= 0.0 && counts.light_tracing <= 0.0 && counts.model == nullptr;
+}
+
+bool all_next_events(std::span<const ConnectionPair> pairs) {
+  return std::all_of(pairs.begin(), pairs.end(), [](const ConnectionPair& p) {
+    return p.light.size() == 1 && p.light[0].kind == VertexKind::kEmitter && p.camera.size() >= 2;
+  });
+}
+
+void next_event_values_and_weights(const Scene& scene, const StrategyCounts& counts,
+                                   std::span<const ConnectionPair> pairs, std::span<Rgb> values,
+                                   std::span<double> weights, TraceCounters& counters) {
+  if (counts.next_event <= 0.0) {  // connect() returns 0 at once, counting nothing
+    std::fill(values.begin(), values.end(), Rgb{});
+    return;
+  }
+  Chunk c;
+  double red[kChunk], green[kChunk], blue[kChunk];
+  const PathVertex none;  // a dropped connection's inputs
+  for (std::size_t first = 0; first < pairs.size(); first += kChunk) {
+    c.size = std::min(kChunk, pairs.size() - first);
+    bool all_lambertian = true;
+    for (std::size_t j = 0; j < c.size; ++j) {
+      const PathVertex& x = pairs[first + j].light[0];
+      const PathVertex& y = pairs[first + j].camera.back();
+      const bool connects = !x.delta && !y.delta;
+      counters.connections += connects ? 1 : 0;
+      const PathVertex& xs = connects ? x : none;
+      const PathVertex& ys = connects ? y : none;
+      c.x_x[j] = xs.position.x, c.x_y[j] = xs.position.y, c.x_z[j] = xs.position.z;
+      c.xn_x[j] = xs.normal.x, c.xn_y[j] = xs.normal.y, c.xn_z[j] = xs.normal.z;
+      c.point_light[j] = xs.point_light ? 1.0 : 0.0;
+      const Rgb le = !connects       ? Rgb{}
+                     : x.point_light ? scene.description().point_lights[x.triangle].intensity
+                                     : scene.triangle(x.triangle).emission;
+      c.le_r[j] = le.r, c.le_g[j] = le.g, c.le_b[j] = le.b;
+      c.xb_r[j] = xs.beta.r, c.xb_g[j] = xs.beta.g, c.xb_b[j] = xs.beta.b;
+      c.x_pdf[j] = xs.pdf_fwd;
+      c.y_x[j] = ys.position.x, c.y_y[j] = ys.position.y, c.y_z[j] = ys.position.z;
+      c.yn_x[j] = ys.normal.x, c.yn_y[j] = ys.normal.y, c.yn_z[j] = ys.normal.z;
+      const Vec3 facing = bsdf_detail::facing(ys.normal, ys.to_previous);
+      c.yf_x[j] = facing.x, c.yf_y[j] = facing.y, c.yf_z[j] = facing.z;
+      c.wo_in_front[j] = dot(facing, ys.to_previous) > 0.0 ? 1.0 : 0.0;
+      c.yb_r[j] = ys.beta.r, c.yb_g[j] = ys.beta.g, c.yb_b[j] = ys.beta.b;
+      const Material& m = scene.material(ys.triangle);
+      const Rgb fd = m.albedo * kInvPi;
+      c.fd_r[j] = fd.r, c.fd_g[j] = fd.g, c.fd_b[j] = fd.b;
+      all_lambertian &= !connects || m.kind == MaterialKind::kDiffuse;
+    }
+    segments_and_ends(c);
+    if (!all_lambertian) {  // the other camera ends' f and density, one at a time
+      for (std::size_t j = 0; j < c.size; ++j) {
+        const PathVertex& y = pairs[first + j].camera.back();
+        const Material& m = scene.material(y.triangle);
+        if (m.kind == MaterialKind::kDiffuse || y.delta || pairs[first + j].light[0].delta) {
+          continue;
+        }
+        const BsdfValue b =
+            bsdf_value(m, y.normal, y.to_previous, -Vec3{c.w_x[j], c.w_y[j], c.w_z[j]});
+        c.f_r[j] = b.f.r, c.f_g[j] = b.f.g, c.f_b[j] = b.f.b;
+        c.pdf_y[j] = b.pdf;
+      }
+    }
+    counters.skipped_zero += values_and_weights(c, counts.next_event, counts.emitter_hit, red,
+                                                green, blue, weights.data() + first);
+    for (std::size_t j = 0; j < c.size; ++j) values[first + j] = {red[j], green[j], blue[j]};
+  }
+}
+
+}  // namespace pcbench::scene

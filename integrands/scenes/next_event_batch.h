@@ -1,0 +1,42 @@
+// The next-event connections of many camera prefixes at once, value and weight, for an estimator
+// whose only strategies are emitter hits and next events (StrategyCounts without connections,
+// light tracing or a count model: pt). ConnectionBatch (connection_queue.h) hands a row's such
+// requests here instead of to connect() and mis_weight() one at a time, where they were about a
+// third of path tracing's time: a PathVertex each side, the general weight's loops over the
+// whole camera prefix (every term but one zero under these counts), and the segment, the
+// emission and the camera end's BSDF computed twice, before the shadow ray and after it.
+//
+// Here the segments, emission and geometry terms, a Lambertian camera end's BSDF and the weights
+// run in SIMD lanes across the prefixes (any other camera end's BSDF through bsdf_value, one at
+// a time), in connect()'s order of operations, without fused multiply-adds (the file is built
+// without contraction: CMakeLists.txt) and with IEEE's exact roots and quotients: the same
+// values, weights and counters as connect() and mis_weight() to the bit
+// (tests/next_event_batch_test.cpp; the images, ctest estimators.hashes). Under these counts the
+// balance heuristic of strategy (1, t) is
+//     n_1 / (n_1 + n_0 · p_{0,t} / p_{1,t}),   p_{0,t} / p_{1,t} = p_y(y → x) |cos_x| / d² / p(x),
+// which is what mis_weight's loops leave when every other term is zero (1 at a point light,
+// which no path hits).
+#pragma once
+
+#include <span>
+
+#include "integrands/scenes/connection.h"
+#include "integrands/scenes/connection_queue.h"
+#include "integrands/scenes/path_vertex.h"
+#include "integrands/scenes/scene.h"
+
+namespace pcbench::scene {
+
+// Whether `counts` are an estimator's with no strategy but emitter hits and next events.
+bool next_event_only(const StrategyCounts& counts);
+// Whether every pair is a next-event connection: s = 1 from an emitter vertex, t >= 2.
+bool all_next_events(std::span<const ConnectionPair> pairs);
+
+// For next_event_only counts and all_next_events pairs: values[i], connect()'s unweighted,
+// unoccluded value of pairs[i], and weights[i], its mis_weight() (for the pairs whose value is
+// not 0), counting the work as connect() does.
+void next_event_values_and_weights(const Scene& scene, const StrategyCounts& counts,
+                                   std::span<const ConnectionPair> pairs, std::span<Rgb> values,
+                                   std::span<double> weights, TraceCounters& counters);
+
+}  // namespace pcbench::scene
