@@ -1,8 +1,9 @@
 // The next-event connections of many prefixes at once (integrands/scenes/next_event_batch.h)
 // against connect() and mis_weight() one at a time, on every built-in scene: the same values,
 // weights and counters to the bit, under path tracing's counts and others with no strategy but
-// emitter hits and next events. The images these make are checked whole by ctest
-// estimators.hashes.
+// emitter hits and next events; and the queue's emitter samples (ConnectionQueue::
+// connect_emitter_sample) against vertices sampled beforehand. The images these make are
+// checked whole by ctest estimators.hashes.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -16,6 +17,7 @@
 #include "integrands/scenes/connection_queue.h"
 #include "integrands/scenes/next_event_batch.h"
 #include "integrands/scenes/path_vertex.h"
+#include "integrands/scenes/render_services.h"
 #include "integrands/scenes/scene.h"
 
 namespace pcbench::scene {
@@ -82,21 +84,102 @@ TEST_P(NextEventBatchOn, ValuesWeightsAndCountersAreConnectsAndMisWeights) {
   EXPECT_GT(weighed, 100u);  // the comparison saw weights, not only zeros
 }
 
+// A row's requests through ConnectionQueue: emitter vertices the queue samples itself
+// (connect_emitter_sample, the points drawn in lanes when every request is one and the counts
+// have nothing else) against vertices sampled beforehand (connect), with the same streams:
+// the same values and counters to the bit, also mixed with other requests and under counts
+// with connections (where the sampled vertices are made one by one).
+TEST_P(NextEventBatchOn, QueuedEmitterSamplesAreSampledVertices) {
+  SceneDescription d = *built_in_scene(GetParam());
+  d.width = d.height = kResolution;
+  const Scene scene(std::move(d));
+  std::vector<std::vector<PathVertex>> paths(kResolution * kResolution);
+  TraceCounters setup;
+  for (std::uint32_t p = 0; p < paths.size(); ++p) {
+    RandomStream rng({.key = 0x7e59, .purpose = StreamPurpose::kCameraPath, .path = p});
+    const double fx = p % kResolution + rng.uniform(), fy = p / kResolution + rng.uniform();
+    trace_camera_path(scene, fx, fy, rng, scene.description().max_length, paths[p], setup);
+  }
+  std::size_t nonzero = 0, unoccluded_nonzero = 0;  // before and after the shadow rays
+  for (const StrategyCounts counts :
+       {StrategyCounts{.emitter_hit = 1.0, .next_event = 1.0, .connection = 0.0},
+        StrategyCounts{.emitter_hit = 1.0, .next_event = 2.0, .connection = 0.0},
+        StrategyCounts{}}) {
+    for (const bool mixed : {false, true}) {
+      ConnectionQueue sampled, made;
+      TraceCounters sampled_counters, made_counters;
+      const StreamId id{.key = 0x7e59, .purpose = StreamPurpose::kEstimatorAux};
+      RandomStream rng_a(id), rng_b(id);
+      sampled.clear();
+      made.clear();
+      for (std::uint32_t p = 0; p < paths.size(); ++p) {
+        for (std::uint32_t t = 2; t <= paths[p].size(); ++t) {
+          const CameraPrefix a{.pixel = p,
+                               .vertices = std::span(paths[p]).first(t),
+                               .max_s = 1,
+                               .camera = rng_a,
+                               .draws = rng_a,
+                               .counters = sampled_counters};
+          const CameraPrefix b{.pixel = p,
+                               .vertices = std::span(paths[p]).first(t),
+                               .max_s = 1,
+                               .camera = rng_b,
+                               .draws = rng_b,
+                               .counters = made_counters};
+          sampled.begin_prefix(a, false, {});
+          made.begin_prefix(b, false, {});
+          sampled.connect_emitter_sample(rng_a, a, 0.5);
+          made.connect(sample_emitter_vertex(scene, rng_b), b, 0.5);
+          if (mixed && t % 2 == 0) {  // a vertex sampled by the pass among them
+            sampled.connect(sample_emitter_vertex(scene, rng_a), a);
+            made.connect(sample_emitter_vertex(scene, rng_b), b);
+          }
+        }
+      }
+      sampled.resolve(scene, counts, sampled_counters);
+      made.resolve(scene, counts, made_counters);
+      for (const auto& prefix : made.prefixes()) {
+        for (std::uint32_t i = prefix.first; i < prefix.end; ++i) {
+          const Rgb& got = sampled.value(i);
+          const Rgb& want = made.value(i);
+          ASSERT_TRUE(same_bits(got.r, want.r) && same_bits(got.g, want.g) &&
+                      same_bits(got.b, want.b))
+              << "request " << i << (mixed ? ", mixed" : "");
+          ASSERT_EQ(sampled.strategy(i), made.strategy(i));
+          if (!want.is_black()) ++nonzero;
+        }
+      }
+      unoccluded_nonzero += made_counters.shadow_rays + made_counters.skipped_convex;
+      EXPECT_EQ(sampled_counters.connections, made_counters.connections);
+      EXPECT_EQ(sampled_counters.skipped_zero, made_counters.skipped_zero);
+      EXPECT_EQ(sampled_counters.shadow_rays, made_counters.shadow_rays);
+      EXPECT_EQ(sampled_counters.occluded, made_counters.occluded);
+      EXPECT_EQ(sampled_counters.skipped_convex, made_counters.skipped_convex);
+    }
+  }
+  // The comparison saw values that reached their shadow rays (door-ajar's are nearly all blocked
+  // at this resolution), and on every scene but door-ajar unblocked ones.
+  EXPECT_GT(unoccluded_nonzero, 100u);
+  if (GetParam() != "door-ajar") {
+    EXPECT_GT(nonzero, 100u);
+  }
+}
+
 TEST(NextEventBatch, AppliesOnlyToNextEventsUnderCountsWithNothingElse) {
   EXPECT_TRUE(next_event_only({.emitter_hit = 1.0, .next_event = 1.0, .connection = 0.0}));
   EXPECT_FALSE(next_event_only({}));  // BDPT's: connections
   EXPECT_FALSE(next_event_only({.connection = 0.0, .light_tracing = 16384.0}));
   std::vector<PathVertex> camera(3), light(2);
   light[0].kind = VertexKind::kEmitter;
-  EXPECT_TRUE(all_next_events(std::vector<ConnectionPair>{
-      {std::span(light).first(1), std::span(camera)}}));
-  EXPECT_FALSE(all_next_events(std::vector<ConnectionPair>{
-      {std::span(light), std::span(camera)}}));  // s = 2
+  EXPECT_TRUE(
+      all_next_events(std::vector<ConnectionPair>{{std::span(light).first(1), std::span(camera)}}));
+  EXPECT_FALSE(all_next_events(
+      std::vector<ConnectionPair>{{std::span(light), std::span(camera)}}));  // s = 2
   EXPECT_FALSE(all_next_events(std::vector<ConnectionPair>{
       {std::span(light).first(1), std::span(camera).first(1)}}));  // t = 1
   light[0].kind = VertexKind::kSurface;
-  EXPECT_FALSE(all_next_events(std::vector<ConnectionPair>{
-      {std::span(light).first(1), std::span(camera)}}));
+  EXPECT_FALSE(
+      all_next_events(std::vector<ConnectionPair>{{std::span(light).first(1), std::span(camera)}}));
 }
 
 INSTANTIATE_TEST_SUITE_P(BuiltIn, NextEventBatchOn, ::testing::ValuesIn(built_in_scene_names()),

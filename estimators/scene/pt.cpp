@@ -26,8 +26,9 @@ class PathTracingPass final : public ScenePass {
   bool queues_connections() const override { return config_.next_event_count == 1.0; }
   void queue_connections(const LightPool&, CameraPrefix& prefix,
                          ConnectionQueue& queue) const override {
-    // From the camera stream, where the pixel's subpath left it.
-    queue.connect(sample_emitter_vertex(services_.scene(), prefix.camera), prefix);
+    // From the camera stream, where the pixel's subpath left it; the point is made with the
+    // row's others, in lanes.
+    queue.connect_emitter_sample(prefix.camera, prefix);
   }
 
   Rgb connections(const LightPool&, CameraPrefix& prefix) const override {

@@ -1,6 +1,8 @@
 #include "integrands/scenes/connection_queue.h"
 
+#include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "integrands/scenes/next_event_batch.h"
 #include "integrands/scenes/render_services.h"
@@ -36,10 +38,24 @@ void ConnectionQueue::connect(const PathVertex& light_vertex, const CameraPrefix
   ++prefixes_.back().end;
 }
 
+void ConnectionQueue::connect_emitter_sample(RandomStream& rng, const CameraPrefix& prefix,
+                                             double scale) {
+  check_current(prefixes_.back(), prefix);
+  // sample_emitter_vertex's three uniforms, in its order.
+  const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+  requests_.push_back(
+      {nullptr, 1, static_cast<std::uint32_t>(emitter_uniforms_.size() / 3), scale, true});
+  emitter_uniforms_.insert(emitter_uniforms_.end(), {u0, u1, u2});
+  ++sampled_;
+  ++prefixes_.back().end;
+}
+
 void ConnectionQueue::clear() {
   prefixes_.clear();
   requests_.clear();
   owned_.clear();
+  emitter_uniforms_.clear();
+  sampled_ = 0;
 }
 
 void ConnectionQueue::begin_prefix(const CameraPrefix& prefix, bool adds_emitter_hit,
@@ -54,37 +70,22 @@ void ConnectionQueue::begin_prefix(const CameraPrefix& prefix, bool adds_emitter
                        .end = first});
 }
 
-void ConnectionBatch::connect_all(const Scene& scene, const StrategyCounts& counts,
-                                  std::span<const ConnectionPair> pairs, std::span<Rgb> values,
-                                  TraceCounters& counters,
-                                  std::span<std::optional<PixelPosition>> pixels) {
+template <class Value, class Ends, class Weight>
+void ConnectionBatch::trace_and_weigh_each(const Scene& scene, const Value& value, const Ends& ends,
+                                           const Weight& weight, std::span<Rgb> values,
+                                           TraceCounters& counters) {
   shadows_.clear();
   shadowed_.clear();
-  // Next-event connections under counts with nothing else (pt) in lanes, value and weight
-  // together (next_event_batch.h); any others one at a time through connect() and mis_weight().
-  const bool next_events = pixels.empty() && next_event_only(counts) && all_next_events(pairs);
-  if (next_events) {
-    weights_.resize(pairs.size());
-    next_event_values_and_weights(scene, counts, pairs, values, weights_, counters);
-  }
-  const auto weight = [&](std::uint32_t i) {
-    return next_events ? weights_[i] : mis_weight(scene, pairs[i].light, pairs[i].camera, counts);
-  };
-  // The unweighted, unoccluded values; the shadow rays of those that are not black.
-  for (std::uint32_t i = 0; i < pairs.size(); ++i) {
-    const ConnectionPair& pair = pairs[i];
-    if (!next_events) {
-      std::optional<PixelPosition>* pixel = pixels.empty() ? nullptr : &pixels[i];
-      values[i] = scene::connect(scene, pair.light, pair.camera, counts,
-                                 {.visibility = false, .weighted = false}, counters, pixel);
-    }
+  for (std::uint32_t i = 0; i < values.size(); ++i) {
+    value(i);
     if (values[i].is_black()) continue;
     if (scene.traits().convex_enclosure) {
       ++counters.skipped_convex;
       values[i] = values[i] * weight(i);
       continue;
     }
-    shadows_.push_back(scene.shadow_ray(pair.light.back().position, pair.camera.back().position));
+    const auto [light_end, camera_end] = ends(i);
+    shadows_.push_back(scene.shadow_ray(light_end, camera_end));
     shadowed_.push_back(i);
   }
   blocked_.resize(shadows_.size());
@@ -101,14 +102,100 @@ void ConnectionBatch::connect_all(const Scene& scene, const StrategyCounts& coun
   }
 }
 
+void ConnectionBatch::trace_and_weigh(const Scene& scene, std::span<const Vec3> light_ends,
+                                      std::span<const Vec3> camera_ends,
+                                      std::span<const double> weights, std::span<Rgb> values,
+                                      TraceCounters& counters) {
+  trace_and_weigh_each(
+      scene, [](std::uint32_t) {},
+      [&](std::uint32_t i) { return std::pair(light_ends[i], camera_ends[i]); },
+      [&](std::uint32_t i) { return weights[i]; }, values, counters);
+}
+
+void ConnectionBatch::connect_all(const Scene& scene, const StrategyCounts& counts,
+                                  std::span<const ConnectionPair> pairs, std::span<Rgb> values,
+                                  TraceCounters& counters,
+                                  std::span<std::optional<PixelPosition>> pixels) {
+  // The unweighted, unoccluded values: next-event connections under counts with nothing else
+  // (pt) in lanes, value and weight together (next_event_batch.h); any others one at a time
+  // through connect(), and mis_weight() for those not blocked.
+  const bool next_events = pixels.empty() && next_event_only(counts) && all_next_events(pairs);
+  if (next_events) {
+    weights_.resize(pairs.size());
+    next_event_values_and_weights(scene, counts, pairs, values, weights_, counters);
+  }
+  trace_and_weigh_each(
+      scene,
+      [&](std::uint32_t i) {  // each value just before its shadow ray, while its ends are at hand
+        if (next_events) return;
+        std::optional<PixelPosition>* pixel = pixels.empty() ? nullptr : &pixels[i];
+        values[i] = scene::connect(scene, pairs[i].light, pairs[i].camera, counts,
+                                   {.visibility = false, .weighted = false}, counters, pixel);
+      },
+      [&](std::uint32_t i) {
+        return std::pair(pairs[i].light.back().position, pairs[i].camera.back().position);
+      },
+      [&](std::uint32_t i) {
+        return next_events ? weights_[i]
+                           : mis_weight(scene, pairs[i].light, pairs[i].camera, counts);
+      },
+      values, counters);
+}
+
+void ConnectionQueue::make_sampled_vertices(const Scene& scene) {
+  if (sampled_ == 0) return;
+  for (Request& r : requests_) {
+    if (!r.sampled) continue;
+    const double* u = &emitter_uniforms_[3 * std::size_t{r.owned}];
+    r.owned = static_cast<std::uint32_t>(owned_.size());
+    r.sampled = false;
+    owned_.push_back(emitter_vertex(scene.emitters().sample(u[0], u[1], u[2])));
+  }
+  sampled_ = 0;
+}
+
+void ConnectionQueue::resolve_sampled_next_events(const Scene& scene, const StrategyCounts& counts,
+                                                  TraceCounters& counters) {
+  const std::size_t n = requests_.size();
+  camera_end_of_.resize(n);
+  for (const Prefix& p : prefixes_) {
+    for (std::uint32_t i = p.first; i < p.end; ++i) camera_end_of_[i] = &p.camera.back();
+  }
+  light_ends_.resize(n);
+  camera_ends_.resize(n);
+  weights_.resize(n);
+  EmitterPoints points;
+  for (std::size_t first = 0; first < n; first += EmitterPoints::kCapacity) {
+    const std::size_t size = std::min(EmitterPoints::kCapacity, n - first);
+    // The requests were queued in order, so their uniforms are the chunk's, in order.
+    scene.emitters().sample_many(std::span(emitter_uniforms_).subspan(3 * first, 3 * size), points);
+    next_event_values_and_weights(scene, counts, points,
+                                  std::span(camera_end_of_).subspan(first, size),
+                                  std::span(values_).subspan(first, size),
+                                  std::span(weights_).subspan(first, size), counters);
+    for (std::size_t j = 0; j < size; ++j) {
+      light_ends_[first + j] = {points.x[j], points.y[j], points.z[j]};
+      camera_ends_[first + j] = camera_end_of_[first + j]->position;
+    }
+  }
+  batch_.trace_and_weigh(scene, light_ends_, camera_ends_, weights_, values_, counters);
+}
+
 void ConnectionQueue::resolve(const Scene& scene, const StrategyCounts& counts,
                               TraceCounters& counters) {
-  pairs_.resize(requests_.size());
-  for (const Prefix& p : prefixes_) {
-    for (std::uint32_t i = p.first; i < p.end; ++i) pairs_[i] = {light_of(requests_[i]), p.camera};
-  }
   values_.resize(requests_.size());
-  batch_.connect_all(scene, counts, pairs_, values_, counters);
+  if (sampled_ > 0 && sampled_ == requests_.size() && next_event_only(counts)) {
+    resolve_sampled_next_events(scene, counts, counters);
+  } else {
+    make_sampled_vertices(scene);
+    pairs_.resize(requests_.size());
+    for (const Prefix& p : prefixes_) {
+      for (std::uint32_t i = p.first; i < p.end; ++i) {
+        pairs_[i] = {light_of(requests_[i]), p.camera};
+      }
+    }
+    batch_.connect_all(scene, counts, pairs_, values_, counters);
+  }
   for (std::size_t i = 0; i < requests_.size(); ++i) {
     values_[i] = requests_[i].scale * values_[i];
   }

@@ -15,6 +15,7 @@
 #include <span>
 #include <vector>
 
+#include "base/rng.h"
 #include "integrands/scenes/connection.h"
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/scene.h"
@@ -38,8 +39,21 @@ class ConnectionBatch {
   void connect_all(const Scene& scene, const StrategyCounts& counts,
                    std::span<const ConnectionPair> pairs, std::span<Rgb> values,
                    TraceCounters& counters, std::span<std::optional<PixelPosition>> pixels = {});
+  // For connections whose unoccluded values come with their weights (next_event_batch.h): the
+  // shadow rays of the values that are not 0, light_ends[i] to camera_ends[i], as packets; each
+  // unblocked value times weights[i], each blocked one 0, counted as connect_all counts.
+  void trace_and_weigh(const Scene& scene, std::span<const Vec3> light_ends,
+                       std::span<const Vec3> camera_ends, std::span<const double> weights,
+                       std::span<Rgb> values, TraceCounters& counters);
 
  private:
+  // The shadow rays and weights of connect_all and trace_and_weigh: value(i) sets values[i] if
+  // it is not set yet, ends(i) gives connection i's two positions, weight(i) its MIS weight
+  // (asked only of the values that are not 0).
+  template <class Value, class Ends, class Weight>
+  void trace_and_weigh_each(const Scene& scene, const Value& value, const Ends& ends,
+                            const Weight& weight, std::span<Rgb> values, TraceCounters& counters);
+
   std::vector<double> weights_;  // next_event_batch.h's, when it computed the values
   std::vector<Scene::ShadowRay> shadows_;
   std::vector<std::uint32_t> shadowed_;  // the pair each shadow ray decides
@@ -55,6 +69,11 @@ class ConnectionQueue {
   // Strategy (1, prefix.t()) to a light vertex the pass sampled itself (next-event
   // estimation's emitter vertex): the queue keeps a copy.
   void connect(const PathVertex& light_vertex, const CameraPrefix& prefix, double scale = 1.0);
+  // connect(sample_emitter_vertex(scene, rng), prefix, scale), the vertex's three uniforms drawn
+  // from `rng` now and its point made when the row is resolved, with the row's others: under
+  // counts with no strategy but emitter hits and next events, the points are drawn in lanes
+  // (Emitters::sample_many) and connected without becoming vertices (next_event_batch.h).
+  void connect_emitter_sample(RandomStream& rng, const CameraPrefix& prefix, double scale = 1.0);
 
   // For the renderer (render_services.cpp) ------------------------------------------------
   // Empties the queue for a new row.
@@ -82,11 +101,17 @@ class ConnectionQueue {
 
  private:
   struct Request {
-    const PathVertex* light = nullptr;  // null: owned_[owned]
+    const PathVertex* light = nullptr;  // null: owned_[owned], or a sampled emitter vertex
     std::uint32_t s = 0;
-    std::uint32_t owned = 0;
+    std::uint32_t owned = 0;  // a sampled one's: its uniforms at emitter_uniforms_[3 owned]
     double scale = 1.0;
+    bool sampled = false;  // connect_emitter_sample's, its vertex not made yet
   };
+  // The sampled requests' emitter vertices into owned_, for the one-by-one connections.
+  void make_sampled_vertices(const Scene& scene);
+  // Every request a sampled next event, under next_event_only counts: in lanes.
+  void resolve_sampled_next_events(const Scene& scene, const StrategyCounts& counts,
+                                   TraceCounters& counters);
   std::span<const PathVertex> light_of(const Request& r) const {
     return {r.light != nullptr ? r.light : &owned_[r.owned], r.s};
   }
@@ -94,6 +119,11 @@ class ConnectionQueue {
   std::vector<Prefix> prefixes_;
   std::vector<Request> requests_;
   std::vector<PathVertex> owned_;
+  std::vector<double> emitter_uniforms_;
+  std::uint32_t sampled_ = 0;  // requests not made vertices yet
+  std::vector<Vec3> light_ends_, camera_ends_;
+  std::vector<const PathVertex*> camera_end_of_;
+  std::vector<double> weights_;
   std::vector<ConnectionPair> pairs_;
   std::vector<Rgb> values_;
   ConnectionBatch batch_;

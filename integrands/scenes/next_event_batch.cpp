@@ -75,8 +75,8 @@ struct Chunk {
 // light). Returns the connections whose value is 0 with a segment of nonzero length
 // (skipped_zero).
 [[gnu::target_clones("avx512f", "avx2", "default")]] std::size_t values_and_weights(
-    const Chunk& c, double next_event, double emitter_hit, double* red, double* green,
-    double* blue, double* weights) {
+    const Chunk& c, double next_event, double emitter_hit, double* red, double* green, double* blue,
+    double* weights) {
   std::size_t skipped_zero = 0;
   for (std::size_t j = 0; j < c.size; ++j) {
     const double r = c.xb_r[j] * c.le_r[j] * c.f_r[j] * c.yb_r[j] * c.geometry[j];
@@ -110,6 +110,86 @@ bool all_next_events(std::span<const ConnectionPair> pairs) {
   });
 }
 
+namespace {
+
+// Lane j's x from an emitter vertex (a delta vertex or an unconnected lane: `connects` false,
+// every input 0).
+void gather_emitter_vertex(const Scene& scene, const PathVertex& x, bool connects, Chunk& c,
+                           std::size_t j) {
+  static const PathVertex none;
+  const PathVertex& v = connects ? x : none;
+  c.x_x[j] = v.position.x, c.x_y[j] = v.position.y, c.x_z[j] = v.position.z;
+  c.xn_x[j] = v.normal.x, c.xn_y[j] = v.normal.y, c.xn_z[j] = v.normal.z;
+  c.point_light[j] = v.point_light ? 1.0 : 0.0;
+  const Rgb le = !connects       ? Rgb{}
+                 : x.point_light ? scene.description().point_lights[x.triangle].intensity
+                                 : scene.triangle(x.triangle).emission;
+  c.le_r[j] = le.r, c.le_g[j] = le.g, c.le_b[j] = le.b;
+  c.xb_r[j] = v.beta.r, c.xb_g[j] = v.beta.g, c.xb_b[j] = v.beta.b;
+  c.x_pdf[j] = v.pdf_fwd;
+}
+
+// Lane j's x from point i of a batch Emitters::sample_many drew: what emitter_vertex makes of it
+// (beta 1 / p(x), pdf_fwd p(x); a point's radiance is its triangle's emission or its light's
+// intensity), or every input 0 when the lane does not connect.
+void gather_emitter_point(const EmitterPoints& points, std::size_t i, bool connects, Chunk& c,
+                          std::size_t j) {
+  const double on = connects ? 1.0 : 0.0;  // multiplies only finite inputs, so 0 or the input
+  c.x_x[j] = on * points.x[i], c.x_y[j] = on * points.y[i], c.x_z[j] = on * points.z[i];
+  c.xn_x[j] = on * points.normal_x[i], c.xn_y[j] = on * points.normal_y[i],
+  c.xn_z[j] = on * points.normal_z[i];
+  c.point_light[j] = on * points.point_light[i];
+  c.le_r[j] = on * points.red[i], c.le_g[j] = on * points.green[i], c.le_b[j] = on * points.blue[i];
+  const double beta = connects ? 1.0 / points.pdf_area[i] : 0.0;
+  c.xb_r[j] = beta, c.xb_g[j] = beta, c.xb_b[j] = beta;
+  c.x_pdf[j] = on * points.pdf_area[i];
+}
+
+// Lane j's y, y_{t-1} of `camera` (every input 0 when the lane does not connect); whether its
+// BSDF is Lambertian (or the lane unconnected), which the lanes compute.
+bool gather_camera_end(const Scene& scene, const PathVertex& y, bool connects, Chunk& c,
+                       std::size_t j) {
+  static const PathVertex none;
+  const PathVertex& v = connects ? y : none;
+  c.y_x[j] = v.position.x, c.y_y[j] = v.position.y, c.y_z[j] = v.position.z;
+  c.yn_x[j] = v.normal.x, c.yn_y[j] = v.normal.y, c.yn_z[j] = v.normal.z;
+  const Vec3 facing = bsdf_detail::facing(v.normal, v.to_previous);
+  c.yf_x[j] = facing.x, c.yf_y[j] = facing.y, c.yf_z[j] = facing.z;
+  c.wo_in_front[j] = dot(facing, v.to_previous) > 0.0 ? 1.0 : 0.0;
+  c.yb_r[j] = v.beta.r, c.yb_g[j] = v.beta.g, c.yb_b[j] = v.beta.b;
+  const Material& m = scene.material(v.triangle);
+  const Rgb fd = m.albedo * kInvPi;
+  c.fd_r[j] = fd.r, c.fd_g[j] = fd.g, c.fd_b[j] = fd.b;
+  return !connects || m.kind == MaterialKind::kDiffuse;
+}
+
+// The gathered chunk's values and weights into values[0 .. c.size) and weights[0 .. c.size);
+// camera_end(j) is lane j's y, for the BSDFs that are not Lambertian (`connects[j]` lanes only).
+template <class CameraEnd>
+void finish(const Scene& scene, const StrategyCounts& counts, Chunk& c, bool all_lambertian,
+            const bool* connects, const CameraEnd& camera_end, Rgb* values, double* weights,
+            TraceCounters& counters) {
+  segments_and_ends(c);
+  if (!all_lambertian) {  // the other camera ends' f and density, one at a time
+    for (std::size_t j = 0; j < c.size; ++j) {
+      if (!connects[j]) continue;
+      const PathVertex& y = camera_end(j);
+      const Material& m = scene.material(y.triangle);
+      if (m.kind == MaterialKind::kDiffuse) continue;
+      const BsdfValue b =
+          bsdf_value(m, y.normal, y.to_previous, -Vec3{c.w_x[j], c.w_y[j], c.w_z[j]});
+      c.f_r[j] = b.f.r, c.f_g[j] = b.f.g, c.f_b[j] = b.f.b;
+      c.pdf_y[j] = b.pdf;
+    }
+  }
+  double red[kChunk], green[kChunk], blue[kChunk];
+  counters.skipped_zero +=
+      values_and_weights(c, counts.next_event, counts.emitter_hit, red, green, blue, weights);
+  for (std::size_t j = 0; j < c.size; ++j) values[j] = {red[j], green[j], blue[j]};
+}
+
+}  // namespace
+
 void next_event_values_and_weights(const Scene& scene, const StrategyCounts& counts,
                                    std::span<const ConnectionPair> pairs, std::span<Rgb> values,
                                    std::span<double> weights, TraceCounters& counters) {
@@ -118,56 +198,49 @@ void next_event_values_and_weights(const Scene& scene, const StrategyCounts& cou
     return;
   }
   Chunk c;
-  double red[kChunk], green[kChunk], blue[kChunk];
-  const PathVertex none;  // a dropped connection's inputs
+  bool connects[kChunk];
   for (std::size_t first = 0; first < pairs.size(); first += kChunk) {
     c.size = std::min(kChunk, pairs.size() - first);
     bool all_lambertian = true;
     for (std::size_t j = 0; j < c.size; ++j) {
       const PathVertex& x = pairs[first + j].light[0];
       const PathVertex& y = pairs[first + j].camera.back();
-      const bool connects = !x.delta && !y.delta;
-      counters.connections += connects ? 1 : 0;
-      const PathVertex& xs = connects ? x : none;
-      const PathVertex& ys = connects ? y : none;
-      c.x_x[j] = xs.position.x, c.x_y[j] = xs.position.y, c.x_z[j] = xs.position.z;
-      c.xn_x[j] = xs.normal.x, c.xn_y[j] = xs.normal.y, c.xn_z[j] = xs.normal.z;
-      c.point_light[j] = xs.point_light ? 1.0 : 0.0;
-      const Rgb le = !connects       ? Rgb{}
-                     : x.point_light ? scene.description().point_lights[x.triangle].intensity
-                                     : scene.triangle(x.triangle).emission;
-      c.le_r[j] = le.r, c.le_g[j] = le.g, c.le_b[j] = le.b;
-      c.xb_r[j] = xs.beta.r, c.xb_g[j] = xs.beta.g, c.xb_b[j] = xs.beta.b;
-      c.x_pdf[j] = xs.pdf_fwd;
-      c.y_x[j] = ys.position.x, c.y_y[j] = ys.position.y, c.y_z[j] = ys.position.z;
-      c.yn_x[j] = ys.normal.x, c.yn_y[j] = ys.normal.y, c.yn_z[j] = ys.normal.z;
-      const Vec3 facing = bsdf_detail::facing(ys.normal, ys.to_previous);
-      c.yf_x[j] = facing.x, c.yf_y[j] = facing.y, c.yf_z[j] = facing.z;
-      c.wo_in_front[j] = dot(facing, ys.to_previous) > 0.0 ? 1.0 : 0.0;
-      c.yb_r[j] = ys.beta.r, c.yb_g[j] = ys.beta.g, c.yb_b[j] = ys.beta.b;
-      const Material& m = scene.material(ys.triangle);
-      const Rgb fd = m.albedo * kInvPi;
-      c.fd_r[j] = fd.r, c.fd_g[j] = fd.g, c.fd_b[j] = fd.b;
-      all_lambertian &= !connects || m.kind == MaterialKind::kDiffuse;
+      connects[j] = !x.delta && !y.delta;
+      counters.connections += connects[j] ? 1 : 0;
+      gather_emitter_vertex(scene, x, connects[j], c, j);
+      all_lambertian &= gather_camera_end(scene, y, connects[j], c, j);
     }
-    segments_and_ends(c);
-    if (!all_lambertian) {  // the other camera ends' f and density, one at a time
-      for (std::size_t j = 0; j < c.size; ++j) {
-        const PathVertex& y = pairs[first + j].camera.back();
-        const Material& m = scene.material(y.triangle);
-        if (m.kind == MaterialKind::kDiffuse || y.delta || pairs[first + j].light[0].delta) {
-          continue;
-        }
-        const BsdfValue b =
-            bsdf_value(m, y.normal, y.to_previous, -Vec3{c.w_x[j], c.w_y[j], c.w_z[j]});
-        c.f_r[j] = b.f.r, c.f_g[j] = b.f.g, c.f_b[j] = b.f.b;
-        c.pdf_y[j] = b.pdf;
-      }
-    }
-    counters.skipped_zero += values_and_weights(c, counts.next_event, counts.emitter_hit, red,
-                                                green, blue, weights.data() + first);
-    for (std::size_t j = 0; j < c.size; ++j) values[first + j] = {red[j], green[j], blue[j]};
+    finish(
+        scene, counts, c, all_lambertian, connects,
+        [&](std::size_t j) -> const PathVertex& { return pairs[first + j].camera.back(); },
+        values.data() + first, weights.data() + first, counters);
   }
+}
+
+void next_event_values_and_weights(const Scene& scene, const StrategyCounts& counts,
+                                   const EmitterPoints& points,
+                                   std::span<const PathVertex* const> camera_ends,
+                                   std::span<Rgb> values, std::span<double> weights,
+                                   TraceCounters& counters) {
+  if (counts.next_event <= 0.0) {
+    std::fill(values.begin(), values.end(), Rgb{});
+    return;
+  }
+  Chunk c;
+  bool connects[kChunk];
+  c.size = points.size;
+  bool all_lambertian = true;
+  for (std::size_t j = 0; j < c.size; ++j) {
+    const PathVertex& y = *camera_ends[j];
+    connects[j] = !y.delta;  // an emitter point is never a delta vertex
+    counters.connections += connects[j] ? 1 : 0;
+    gather_emitter_point(points, j, connects[j], c, j);
+    all_lambertian &= gather_camera_end(scene, y, connects[j], c, j);
+  }
+  finish(
+      scene, counts, c, all_lambertian, connects,
+      [&](std::size_t j) -> const PathVertex& { return *camera_ends[j]; }, values.data(),
+      weights.data(), counters);
 }
 
 }  // namespace pcbench::scene

@@ -22,6 +22,7 @@
 
 #include "integrands/scenes/connection.h"
 #include "integrands/scenes/connection_queue.h"
+#include "integrands/scenes/emitters.h"
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/scene.h"
 
@@ -38,5 +39,13 @@ bool all_next_events(std::span<const ConnectionPair> pairs);
 void next_event_values_and_weights(const Scene& scene, const StrategyCounts& counts,
                                    std::span<const ConnectionPair> pairs, std::span<Rgb> values,
                                    std::span<double> weights, TraceCounters& counters);
+// The same for emitter points drawn together (Emitters::sample_many): point j connected to the
+// camera end *camera_ends[j] (y_{t-1}, t >= 2) is the pair {emitter_vertex(points[j])} and that
+// prefix, without making the vertex.
+void next_event_values_and_weights(const Scene& scene, const StrategyCounts& counts,
+                                   const EmitterPoints& points,
+                                   std::span<const PathVertex* const> camera_ends,
+                                   std::span<Rgb> values, std::span<double> weights,
+                                   TraceCounters& counters);
 
 }  // namespace pcbench::scene
