@@ -19,6 +19,7 @@
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/render_services.h"
 #include "integrands/scenes/scene.h"
+#include "test_support.h"
 
 namespace pcbench::scene {
 namespace {
@@ -31,17 +32,27 @@ bool same_bits(double a, double b) {
 
 class NextEventBatchOn : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(NextEventBatchOn, ValuesWeightsAndCountersAreConnectsAndMisWeights) {
-  SceneDescription d = *built_in_scene(GetParam());
+Scene small_scene(const std::string& name) {
+  SceneDescription d = *built_in_scene(name);
   d.width = d.height = kResolution;
-  const Scene scene(std::move(d));
+  return Scene(std::move(d));
+}
+
+// A camera subpath through every pixel, from streams of `key`.
+std::vector<std::vector<PathVertex>> camera_paths(const Scene& scene, std::uint64_t key) {
   std::vector<std::vector<PathVertex>> paths(kResolution * kResolution);
   TraceCounters setup;
   for (std::uint32_t p = 0; p < paths.size(); ++p) {
-    RandomStream rng({.key = 0x7e58, .purpose = StreamPurpose::kCameraPath, .path = p});
+    RandomStream rng({.key = key, .purpose = StreamPurpose::kCameraPath, .path = p});
     const double fx = p % kResolution + rng.uniform(), fy = p / kResolution + rng.uniform();
     trace_camera_path(scene, fx, fy, rng, scene.description().max_length, paths[p], setup);
   }
+  return paths;
+}
+
+TEST_P(NextEventBatchOn, ValuesWeightsAndCountersAreConnectsAndMisWeights) {
+  const Scene scene = small_scene(GetParam());
+  const auto paths = camera_paths(scene, 0x7e58);
   // Every prefix with t >= 2, twice, each with an emitter vertex of its own.
   std::vector<PathVertex> emitters;
   emitters.reserve(2 * paths.size() * (scene.description().max_length + 1));
@@ -90,16 +101,8 @@ TEST_P(NextEventBatchOn, ValuesWeightsAndCountersAreConnectsAndMisWeights) {
 // the same values and counters to the bit, also mixed with other requests and under counts
 // with connections (where the sampled vertices are made one by one).
 TEST_P(NextEventBatchOn, QueuedEmitterSamplesAreSampledVertices) {
-  SceneDescription d = *built_in_scene(GetParam());
-  d.width = d.height = kResolution;
-  const Scene scene(std::move(d));
-  std::vector<std::vector<PathVertex>> paths(kResolution * kResolution);
-  TraceCounters setup;
-  for (std::uint32_t p = 0; p < paths.size(); ++p) {
-    RandomStream rng({.key = 0x7e59, .purpose = StreamPurpose::kCameraPath, .path = p});
-    const double fx = p % kResolution + rng.uniform(), fy = p / kResolution + rng.uniform();
-    trace_camera_path(scene, fx, fy, rng, scene.description().max_length, paths[p], setup);
-  }
+  const Scene scene = small_scene(GetParam());
+  const auto paths = camera_paths(scene, 0x7e59);
   std::size_t nonzero = 0, unoccluded_nonzero = 0;  // before and after the shadow rays
   for (const StrategyCounts counts :
        {StrategyCounts{.emitter_hit = 1.0, .next_event = 1.0, .connection = 0.0},
@@ -183,13 +186,7 @@ TEST(NextEventBatch, AppliesOnlyToNextEventsUnderCountsWithNothingElse) {
 }
 
 INSTANTIATE_TEST_SUITE_P(BuiltIn, NextEventBatchOn, ::testing::ValuesIn(built_in_scene_names()),
-                         [](const auto& test) {
-                           std::string name = test.param;
-                           for (char& c : name) {
-                             if (c == '-') c = '_';
-                           }
-                           return name;
-                         });
+                         scene_test_name);
 
 }  // namespace
 }  // namespace pcbench::scene

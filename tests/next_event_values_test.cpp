@@ -22,6 +22,7 @@
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/render_services.h"
 #include "integrands/scenes/scene.h"
+#include "test_support.h"
 
 namespace pcbench::scene {
 namespace {
@@ -216,13 +217,7 @@ TEST_P(NextEventValuesOn, TargetsOfABatchAreTheTargetsOneByOne) {
 INSTANTIATE_TEST_SUITE_P(BuiltIn, NextEventValuesOn,
                          ::testing::Values("furnace", "cornell", "cornell-glossy", "door-ajar",
                                            "lampshade", "many-lights"),
-                         [](const auto& test) {
-                           std::string name = test.param;
-                           for (char& c : name) {
-                             if (c == '-') c = '_';
-                           }
-                           return name;
-                         });
+                         scene_test_name);
 
 }  // namespace
 }  // namespace pcbench::scene

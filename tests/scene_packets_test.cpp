@@ -14,6 +14,7 @@
 #include "integrands/scenes/path_lanes.h"
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/scene.h"
+#include "test_support.h"
 
 namespace pcbench::scene {
 namespace {
@@ -154,11 +155,7 @@ TEST_P(ScenePackets, WalkLanesIsTheOneRayWalk) {
 INSTANTIATE_TEST_SUITE_P(BuiltIn, ScenePackets,
                          ::testing::Values("furnace", "cornell", "cornell-glossy", "door-ajar",
                                            "lampshade", "many-lights"),
-                         [](const auto& test) {
-                           std::string name = test.param;
-                           for (char& c : name) c = c == '-' ? '_' : c;
-                           return name;
-                         });
+                         scene_test_name);
 
 }  // namespace
 }  // namespace pcbench::scene

@@ -164,4 +164,10 @@ void expect_family_consistent(const std::vector<RunPlan>& plans, std::uint64_t s
   }
 }
 
+std::string scene_test_name(const ::testing::TestParamInfo<std::string>& info) {
+  std::string name = info.param;
+  for (char& c : name) c = c == '-' ? '_' : c;
+  return name;
+}
+
 }  // namespace pcbench

@@ -33,6 +33,9 @@ double chi_square_uniform_p_value(const std::vector<double>& counts);
 double chi_square_p_value(const std::vector<double>& observed,
                           const std::vector<double>& probabilities);
 
+// A built-in scene's name as a parameterised test's name (gtest allows no '-').
+std::string scene_test_name(const ::testing::TestParamInfo<std::string>& info);
+
 // A fresh, empty temporary folder, removed when the object goes out of scope.
 class TemporaryFolder {
  public:

@@ -112,14 +112,23 @@ bool all_next_events(std::span<const ConnectionPair> pairs) {
 
 namespace {
 
+void put(double* x, double* y, double* z, std::size_t j, const Vec3& v) {
+  x[j] = v.x, y[j] = v.y, z[j] = v.z;
+}
+
+// `v`, or for a lane that does not connect a vertex whose every member is 0.
+const PathVertex& lane_vertex(const PathVertex& v, bool connects) {
+  static const PathVertex none;
+  return connects ? v : none;
+}
+
 // Lane j's x from an emitter vertex (a delta vertex or an unconnected lane: `connects` false,
 // every input 0).
 void gather_emitter_vertex(const Scene& scene, const PathVertex& x, bool connects, Chunk& c,
                            std::size_t j) {
-  static const PathVertex none;
-  const PathVertex& v = connects ? x : none;
-  c.x_x[j] = v.position.x, c.x_y[j] = v.position.y, c.x_z[j] = v.position.z;
-  c.xn_x[j] = v.normal.x, c.xn_y[j] = v.normal.y, c.xn_z[j] = v.normal.z;
+  const PathVertex& v = lane_vertex(x, connects);
+  put(c.x_x, c.x_y, c.x_z, j, v.position);
+  put(c.xn_x, c.xn_y, c.xn_z, j, v.normal);
   c.point_light[j] = v.point_light ? 1.0 : 0.0;
   const Rgb le = !connects       ? Rgb{}
                  : x.point_light ? scene.description().point_lights[x.triangle].intensity
@@ -149,12 +158,11 @@ void gather_emitter_point(const EmitterPoints& points, std::size_t i, bool conne
 // BSDF is Lambertian (or the lane unconnected), which the lanes compute.
 bool gather_camera_end(const Scene& scene, const PathVertex& y, bool connects, Chunk& c,
                        std::size_t j) {
-  static const PathVertex none;
-  const PathVertex& v = connects ? y : none;
-  c.y_x[j] = v.position.x, c.y_y[j] = v.position.y, c.y_z[j] = v.position.z;
-  c.yn_x[j] = v.normal.x, c.yn_y[j] = v.normal.y, c.yn_z[j] = v.normal.z;
+  const PathVertex& v = lane_vertex(y, connects);
+  put(c.y_x, c.y_y, c.y_z, j, v.position);
+  put(c.yn_x, c.yn_y, c.yn_z, j, v.normal);
   const Vec3 facing = bsdf_detail::facing(v.normal, v.to_previous);
-  c.yf_x[j] = facing.x, c.yf_y[j] = facing.y, c.yf_z[j] = facing.z;
+  put(c.yf_x, c.yf_y, c.yf_z, j, facing);
   c.wo_in_front[j] = dot(facing, v.to_previous) > 0.0 ? 1.0 : 0.0;
   c.yb_r[j] = v.beta.r, c.yb_g[j] = v.beta.g, c.yb_b[j] = v.beta.b;
   const Material& m = scene.material(v.triangle);
