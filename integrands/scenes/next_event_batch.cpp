@@ -1,10 +1,10 @@
 #include "integrands/scenes/next_event_batch.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "base/lane_select.h"
 #include "integrands/scenes/bsdf.h"
+#include "integrands/scenes/next_event_lane.h"
 
 namespace pcbench::scene {
 namespace {
@@ -38,30 +38,26 @@ struct Chunk {
 };
 
 // The segment, emission and geometry terms, and a Lambertian y's f and density, as connect()
-// computes them (segment_between, emitted_towards, abs_cos_at, bsdf_value).
+// computes them (segment_between, emitted_towards, abs_cos_at, bsdf_value), each lane's
+// arithmetic next_event_lane.h's, which NextEventValues' lanes share.
 [[gnu::target_clones("avx512f", "avx2", "default")]] void segments_and_ends(Chunk& c) {
   for (std::size_t j = 0; j < c.size; ++j) {
-    const double dx = c.y_x[j] - c.x_x[j], dy = c.y_y[j] - c.x_y[j], dz = c.y_z[j] - c.x_z[j];
-    const double distance_squared = dx * dx + dy * dy + dz * dz;
-    const double distance = std::sqrt(distance_squared);
-    const double inv_distance = 1.0 / distance;
-    const double wx = dx * inv_distance, wy = dy * inv_distance, wz = dz * inv_distance;
-    c.w_x[j] = wx;
-    c.w_y[j] = wy;
-    c.w_z[j] = wz;
-    c.distance_squared[j] = distance_squared;
-    c.inv_distance_squared[j] = inv_distance * inv_distance;
-    const bool point_light = c.point_light[j] != 0.0;
-    const double cos_at_x = c.xn_x[j] * wx + c.xn_y[j] * wy + c.xn_z[j] * wz;
-    const bool emits = point_light | (cos_at_x > 0.0);
-    c.le_r[j] = lane_select(emits, c.le_r[j], 0.0);
-    c.le_g[j] = lane_select(emits, c.le_g[j], 0.0);
-    c.le_b[j] = lane_select(emits, c.le_b[j], 0.0);
-    c.cos_x[j] = lane_select(point_light, 1.0, std::abs(cos_at_x));
-    const double cos_y = std::abs(c.yn_x[j] * wx + c.yn_y[j] * wy + c.yn_z[j] * wz);
-    c.geometry[j] = c.cos_x[j] * cos_y * c.inv_distance_squared[j];
+    const next_event_lane::Segment s = next_event_lane::segment(
+        {c.x_x[j], c.x_y[j], c.x_z[j]}, {c.xn_x[j], c.xn_y[j], c.xn_z[j]}, c.point_light[j] != 0.0,
+        {c.y_x[j], c.y_y[j], c.y_z[j]}, {c.yn_x[j], c.yn_y[j], c.yn_z[j]});
+    c.w_x[j] = s.w.x;
+    c.w_y[j] = s.w.y;
+    c.w_z[j] = s.w.z;
+    c.distance_squared[j] = s.distance_squared;
+    c.inv_distance_squared[j] = s.inv_distance_squared;
+    const Rgb le = next_event_lane::emitted(s, {c.le_r[j], c.le_g[j], c.le_b[j]});
+    c.le_r[j] = le.r;
+    c.le_g[j] = le.g;
+    c.le_b[j] = le.b;
+    c.cos_x[j] = s.cos_x;
+    c.geometry[j] = s.geometry;
     // f and the density of a Lambertian y towards wi = -w.
-    const double n_wi = c.yf_x[j] * -wx + c.yf_y[j] * -wy + c.yf_z[j] * -wz;
+    const double n_wi = next_event_lane::lambertian_cos({c.yf_x[j], c.yf_y[j], c.yf_z[j]}, s.w);
     const bool same_side = (c.wo_in_front[j] != 0.0) & (n_wi > 0.0);
     c.f_r[j] = lane_select(same_side, c.fd_r[j], 0.0);
     c.f_g[j] = lane_select(same_side, c.fd_g[j], 0.0);
@@ -70,7 +66,7 @@ struct Chunk {
   }
 }
 
-// connect()'s value, ((x.beta · Le) · f) · y.beta · G, and the weight n_1 / (n_1 + n_0 ratio),
+// connect()'s value (next_event_lane::value) and the weight n_1 / (n_1 + n_0 ratio),
 // ratio = remap0(p_y |cos_x| / d²) / remap0(p(x)) as balance_weight forms it (0 at a point
 // light). Returns the connections whose value is 0 with a segment of nonzero length
 // (skipped_zero).
@@ -79,16 +75,14 @@ struct Chunk {
     double* weights) {
   std::size_t skipped_zero = 0;
   for (std::size_t j = 0; j < c.size; ++j) {
-    const double r = c.xb_r[j] * c.le_r[j] * c.f_r[j] * c.yb_r[j] * c.geometry[j];
-    const double g = c.xb_g[j] * c.le_g[j] * c.f_g[j] * c.yb_g[j] * c.geometry[j];
-    const double b = c.xb_b[j] * c.le_b[j] * c.f_b[j] * c.yb_b[j] * c.geometry[j];
-    const bool segment = c.distance_squared[j] != 0.0;
-    const bool black = (r == 0.0) & (g == 0.0) & (b == 0.0);
-    const bool keep = segment & !black;
-    skipped_zero += static_cast<std::size_t>(segment & black);
-    red[j] = lane_select(keep, r, 0.0);
-    green[j] = lane_select(keep, g, 0.0);
-    blue[j] = lane_select(keep, b, 0.0);
+    const next_event_lane::Value v =
+        next_event_lane::value({c.xb_r[j], c.xb_g[j], c.xb_b[j]}, {c.le_r[j], c.le_g[j], c.le_b[j]},
+                               {c.f_r[j], c.f_g[j], c.f_b[j]}, {c.yb_r[j], c.yb_g[j], c.yb_b[j]},
+                               c.geometry[j], c.distance_squared[j]);
+    skipped_zero += static_cast<std::size_t>(v.skipped_zero);
+    red[j] = v.r;
+    green[j] = v.g;
+    blue[j] = v.b;
     const double light_end = c.pdf_y[j] * c.cos_x[j] * c.inv_distance_squared[j];
     const double ratio = lane_select(light_end != 0.0, light_end, 1.0) /
                          lane_select(c.x_pdf[j] != 0.0, c.x_pdf[j], 1.0);

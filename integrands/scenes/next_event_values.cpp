@@ -1,9 +1,8 @@
 #include "integrands/scenes/next_event_values.h"
 
-#include <cmath>
-
 #include "base/lane_select.h"
 #include "integrands/scenes/bsdf.h"
+#include "integrands/scenes/next_event_lane.h"
 
 namespace pcbench::scene {
 
@@ -21,7 +20,8 @@ struct CameraEnd {
 // Three passes over the batch: (1) in lanes, the segment from x to y, its direction w and the
 // geometry and emission terms; (2) f_y(wo, -w): a Lambertian end's in lanes, any other's
 // through bsdf_eval one point at a time; (3) in lanes, the products in connect()'s order and
-// the zero tests. Built three times, for SSE2, AVX2 and AVX-512 (8 doubles wide; no FMA in any:
+// the zero tests; each lane's arithmetic next_event_lane.h's, which next_event_batch.cpp's
+// lanes share. Built three times, for SSE2, AVX2 and AVX-512 (8 doubles wide; no FMA in any:
 // see the header), the widest the machine has chosen at run time.
 // Returns how many values were zero with a segment of nonzero length (skipped_zero).
 [[gnu::target_clones("avx512f", "avx2", "default")]] std::size_t weigh(const CameraEnd& y,
@@ -31,31 +31,25 @@ struct CameraEnd {
   const std::size_t n = p.size;
   double wx[K], wy[K], wz[K], geometry[K], er[K], eg[K], eb[K], fr[K], fg[K], fb[K];
   for (std::size_t j = 0; j < n; ++j) {
-    const double dx = y.position.x - p.x[j], dy = y.position.y - p.y[j], dz = y.position.z - p.z[j];
-    const double distance_squared = dx * dx + dy * dy + dz * dz;
-    const double distance = std::sqrt(distance_squared);
-    const double inv_distance = 1.0 / distance;
-    wx[j] = dx * inv_distance;
-    wy[j] = dy * inv_distance;
-    wz[j] = dz * inv_distance;
-    const double cos_at_x = p.normal_x[j] * wx[j] + p.normal_y[j] * wy[j] + p.normal_z[j] * wz[j];
-    const double cos_at_y = y.normal.x * wx[j] + y.normal.y * wy[j] + y.normal.z * wz[j];
-    const bool point_light = p.point_light[j] != 0.0;
-    const bool emits = point_light | (cos_at_x > 0.0);
-    er[j] = lane_select(emits, p.red[j], 0.0);
-    eg[j] = lane_select(emits, p.green[j], 0.0);
-    eb[j] = lane_select(emits, p.blue[j], 0.0);
-    const double cos_x = lane_select(point_light, 1.0, std::abs(cos_at_x));
-    geometry[j] = cos_x * std::abs(cos_at_y) * (inv_distance * inv_distance);
-    out.distance_squared[j] = distance_squared;
-    out.distance[j] = distance;
+    const next_event_lane::Segment s = next_event_lane::segment(
+        {p.x[j], p.y[j], p.z[j]}, {p.normal_x[j], p.normal_y[j], p.normal_z[j]},
+        p.point_light[j] != 0.0, y.position, y.normal);
+    wx[j] = s.w.x;
+    wy[j] = s.w.y;
+    wz[j] = s.w.z;
+    const Rgb e = next_event_lane::emitted(s, {p.red[j], p.green[j], p.blue[j]});
+    er[j] = e.r;
+    eg[j] = e.g;
+    eb[j] = e.b;
+    geometry[j] = s.geometry;
+    out.distance_squared[j] = s.distance_squared;
+    out.distance[j] = s.distance;
   }
   if (y.material->kind == MaterialKind::kDiffuse) {
-    // bsdf_eval's same-side test: dot(n, wo) > 0 for all lanes, dot(n, wi) > 0 for wi = -w
-    // term for term in each.
+    // bsdf_eval's same-side test: dot(n, wo) > 0 for all lanes, dot(n, wi) > 0 for wi = -w.
     const Rgb f = y.wo_in_front ? y.material->albedo * kInvPi : Rgb{};
     for (std::size_t j = 0; j < n; ++j) {
-      const bool front = y.facing.x * -wx[j] + y.facing.y * -wy[j] + y.facing.z * -wz[j] > 0.0;
+      const bool front = next_event_lane::lambertian_cos(y.facing, {wx[j], wy[j], wz[j]}) > 0.0;
       fr[j] = lane_select(front, f.r, 0.0);
       fg[j] = lane_select(front, f.g, 0.0);
       fb[j] = lane_select(front, f.b, 0.0);
@@ -70,19 +64,16 @@ struct CameraEnd {
   }
   std::size_t skipped_zero = 0;
   for (std::size_t j = 0; j < n; ++j) {
-    const double inv_pdf = 1.0 / p.pdf_area[j];
-    const double red = inv_pdf * er[j] * fr[j] * y.beta.r * geometry[j];
-    const double green = inv_pdf * eg[j] * fg[j] * y.beta.g * geometry[j];
-    const double blue = inv_pdf * eb[j] * fb[j] * y.beta.b * geometry[j];
-    const bool segment = out.distance_squared[j] != 0.0;
-    const bool black = (red == 0.0) & (green == 0.0) & (blue == 0.0);
-    const bool keep = segment & !black;
-    skipped_zero += static_cast<std::size_t>(segment & black);
-    out.red[j] = lane_select(keep, red, 0.0);
-    out.green[j] = lane_select(keep, green, 0.0);
-    out.blue[j] = lane_select(keep, blue, 0.0);
-    out.distance_squared[j] = lane_select(keep, out.distance_squared[j], 0.0);
-    out.distance[j] = lane_select(keep, out.distance[j], 0.0);
+    const double inv_pdf = 1.0 / p.pdf_area[j];  // x's beta
+    const next_event_lane::Value v =
+        next_event_lane::value({inv_pdf, inv_pdf, inv_pdf}, {er[j], eg[j], eb[j]},
+                               {fr[j], fg[j], fb[j]}, y.beta, geometry[j], out.distance_squared[j]);
+    skipped_zero += static_cast<std::size_t>(v.skipped_zero);
+    out.red[j] = v.r;
+    out.green[j] = v.g;
+    out.blue[j] = v.b;
+    out.distance_squared[j] = lane_select(v.keep, out.distance_squared[j], 0.0);
+    out.distance[j] = lane_select(v.keep, out.distance[j], 0.0);
   }
   return skipped_zero;
 }
