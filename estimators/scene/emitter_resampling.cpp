@@ -119,11 +119,21 @@ EmitterSample resample_emitters(const RenderServices& services, CameraPrefix& pr
   return kept;
 }
 
+namespace {
+
+// Whether a sample with target `at_camera` and weight W adds anything: f(Y) W with W = 0, or with
+// a target of density 0 (no candidate had p̂ > 0), is 0 without a connection.
+bool shades(const EmitterTargetValue& at_camera, double contribution_weight) {
+  return contribution_weight != 0.0 && at_camera.density != 0.0;
+}
+
+}  // namespace
+
 Rgb shade_emitter_sample(const RenderServices& services, const PathVertex& point,
                          const EmitterTargetValue& at_camera, double contribution_weight,
                          std::span<const PathVertex> camera, EmitterTarget target,
                          TraceCounters& counters) {
-  if (contribution_weight == 0.0 || at_camera.density == 0.0) return {};
+  if (!shades(at_camera, contribution_weight)) return {};
   // f(Y) in the area measure is the MIS-weighted connection × q(Y), q = the point's own density.
   // A visible target has already traced the shadow ray: only the weight is missing.
   const std::span<const PathVertex> light(&point, 1);
@@ -132,6 +142,12 @@ Rgb shade_emitter_sample(const RenderServices& services, const PathVertex& point
           ? at_camera.value * mis_weight(services.scene(), light, camera, services.counts())
           : services.connect(light, camera, {}, counters);
   return f_over_q * (point.pdf_fwd * contribution_weight);
+}
+
+void queue_emitter_sample(const EmitterSample& y, const CameraPrefix& prefix,
+                          ConnectionQueue& queue) {
+  if (!shades(y.at_owner, y.contribution_weight)) return;
+  queue.connect(y.point, prefix, y.point.pdf_fwd * y.contribution_weight);
 }
 
 }  // namespace pcbench::scene

@@ -66,5 +66,11 @@ Rgb shade_emitter_sample(const RenderServices& services, const PathVertex& point
                          const EmitterTargetValue& at_camera, double contribution_weight,
                          std::span<const PathVertex> camera, EmitterTarget target,
                          TraceCounters& counters);
+// The unshadowed target's f(Y) W at `prefix`, its own reservoir's sample, asked of `queue`
+// (ConnectionQueue::connect) instead: the renderer resolves a row's together, their values and
+// weights in SIMD lanes and their shadow rays in packets, with shade_emitter_sample's value and
+// counters. Nothing is asked when W = 0.
+void queue_emitter_sample(const EmitterSample& y, const CameraPrefix& prefix,
+                          ConnectionQueue& queue);
 
 }  // namespace pcbench::scene

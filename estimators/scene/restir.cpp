@@ -67,15 +67,22 @@ class RestirPass final : public ScenePass {
     std::fill(current_.begin(), current_.end(), EmitterSample{});
   }
 
+  // As ris's (ris.cpp): the unshadowed target's samples of t > 2 queued, the visible target's
+  // shaded at once.
+  bool queues_connections() const override {
+    return config_.ris.target == EmitterTarget::kUnshadowed;
+  }
+  void queue_connections(const LightPool&, CameraPrefix& prefix,
+                         ConnectionQueue& queue) const override {
+    const EmitterSample y =
+        resample_emitters(services_, prefix, config_.ris.candidates, config_.ris.target);
+    if (!kept_for_reuse(prefix, y)) queue_emitter_sample(y, prefix, queue);
+  }
+
   Rgb connections(const LightPool&, CameraPrefix& prefix) const override {
     const EmitterSample y =
         resample_emitters(services_, prefix, config_.ris.candidates, config_.ris.target);
-    if (prefix.t() == 2) {  // reused in finish_iteration; this pixel's slots only
-      first_[prefix.pixel] = {{prefix.vertices[0], prefix.vertices[1]}, true};
-      valid_[prefix.pixel] = 1;
-      current_[prefix.pixel] = y;
-      return {};
-    }
+    if (kept_for_reuse(prefix, y)) return {};
     const Rgb value = shade_emitter_sample(services_, y.point, y.at_owner, y.contribution_weight,
                                            prefix.vertices, config_.ris.target, prefix.counters);
     services_.record(1, prefix, value);
@@ -103,6 +110,16 @@ class RestirPass final : public ScenePass {
   }
 
  private:
+  // The first vertex's sample (t = 2) is kept in this pixel's slots, reused in finish_iteration
+  // and shaded there; true when `prefix` is that vertex's.
+  bool kept_for_reuse(const CameraPrefix& prefix, const EmitterSample& y) const {
+    if (prefix.t() != 2) return false;
+    first_[prefix.pixel] = {{prefix.vertices[0], prefix.vertices[1]}, true};
+    valid_[prefix.pixel] = 1;
+    current_[prefix.pixel] = y;
+    return true;
+  }
+
   // `each(pixel, row counters)` for every pixel, rows in parallel; the counters summed in row
   // order.
   template <typename Each>

@@ -23,6 +23,15 @@ class RisPass final : public ScenePass {
   RisPass(const RenderServices& services, const SceneRisConfig& config)
       : services_(services), config_(config) {}
 
+  // The unshadowed target's kept point is queued, its connection made with the row's others in
+  // lanes; the visible target has traced its shadow ray already, and shades at once.
+  bool queues_connections() const override { return config_.target == EmitterTarget::kUnshadowed; }
+  void queue_connections(const LightPool&, CameraPrefix& prefix,
+                         ConnectionQueue& queue) const override {
+    queue_emitter_sample(resample_emitters(services_, prefix, config_.candidates, config_.target),
+                         prefix, queue);
+  }
+
   Rgb connections(const LightPool&, CameraPrefix& prefix) const override {
     const EmitterSample y =
         resample_emitters(services_, prefix, config_.candidates, config_.target);
