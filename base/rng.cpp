@@ -382,6 +382,14 @@ void RandomStream::uniforms(std::span<double> out) {
   std::size_t i = 0;
   // What is left of this block and of the blocks computed ahead.
   while (i < out.size() && (next_ <= 2 || ahead_next_ < ahead_end_)) out[i++] = uniform();
+  // A stream that reads ahead and needs fewer blocks than a refill makes (a walk's, between two
+  // bounces, for a resampling step of a few candidates): its refill's whole vector of blocks, the
+  // rest kept for its next reads, rather than a group of only the blocks needed (the same blocks
+  // in the same order either way).
+  if (reads_ahead_ && (out.size() - i + 1) / 2 < kAhead) {
+    while (i < out.size()) out[i++] = uniform();
+    return;
+  }
   // Whole blocks, a group at a time, their uniforms converted in the lanes that made them
   // (philox_uniforms_with); the last one stays the stream's block, its words read as far as
   // uniform() would have read them.
