@@ -95,7 +95,12 @@ EmitterSample resample_emitters(const RenderServices& services, CameraPrefix& pr
   NextEventValueLanes at;
   double weights[kBatch];
   Reservoir reservoir;
-  EmitterSample kept;
+  // The kept candidate's slot in its batch, its uniforms and its target; the sample made of them
+  // once, at the end (a sample built first and filled in was zeroed whole, 176 bytes by rep stos,
+  // at every step, and so was a point kept aside).
+  std::uint32_t kept_slot = 0;
+  double kept_u[3] = {};
+  EmitterTargetValue kept_at;
   for (std::uint32_t first = 0; first < candidates; first += kBatch) {
     const std::uint32_t n = std::min(kBatch, candidates - first);
     prefix.camera.uniforms(std::span(u, 3 * n));
@@ -107,16 +112,20 @@ EmitterSample resample_emitters(const RenderServices& services, CameraPrefix& pr
     const std::uint32_t before = reservoir.kept();
     reservoir.offer_batch(first, std::span(weights, n), prefix.draws);
     if (reservoir.kept() != before) {
-      const std::uint32_t j = reservoir.kept() - first;
-      kept.point = emitter_vertex(points[j]);
-      kept.at_owner = {at[j].value, weights[j] * kept.point.pdf_fwd};
+      kept_slot = reservoir.kept() - first;
+      std::copy_n(u + 3 * kept_slot, 3, kept_u);
+      kept_at = {at[kept_slot].value, weights[kept_slot] * points.pdf_area[kept_slot]};
     }
   }
-  if (!reservoir.empty()) {
-    kept.contribution_weight =
-        reservoir.weight_sum() / (static_cast<double>(candidates) * kept.at_owner.density);
-  }
-  return kept;
+  if (reservoir.empty()) return {};
+  // In the last batch, its point is still in `points`; an earlier batch's is made again from its
+  // uniforms (Emitters::sample, the same point as sample_many's).
+  const bool in_last_batch = reservoir.kept() >= (candidates - 1) / kBatch * kBatch;
+  return {.point = emitter_vertex(in_last_batch ? points[kept_slot]
+                                                : emitters.sample(kept_u[0], kept_u[1], kept_u[2])),
+          .at_owner = kept_at,
+          .contribution_weight =
+              reservoir.weight_sum() / (static_cast<double>(candidates) * kept_at.density)};
 }
 
 namespace {
