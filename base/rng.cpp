@@ -364,9 +364,9 @@ void RandomStream::refill() {
     return;
   }
   static const PhiloxLanes lanes = widest_lanes();
-  static_assert(kAhead == kSlots512, "one vector of AVX-512 lanes");
+  static_assert(kAhead % kSlots512 == 0, "whole vectors of AVX-512 lanes");
   if (lanes == PhiloxLanes::kAvx512) {
-    philox_blocks_avx512<1>(counter_, key_, ahead_);
+    philox_blocks_avx512<kAhead / kSlots512>(counter_, key_, ahead_);
   } else {
     double unused[2 * kAhead];
     philox_uniforms_with(lanes, counter_, key_, std::span(ahead_, kAhead),

@@ -100,7 +100,9 @@ class RandomStream {
   // then compute kAhead blocks at once in SIMD lanes and hand them out one by one. A block's ten
   // rounds are a chain of dependent multiplications, so one costs nearly what eight side by side
   // do: a sixth of a path's refill time, where a stream that reads two or three blocks would
-  // lose by it (BM_ImportanceStep). The numbers are the same either way.
+  // lose by it (BM_ImportanceStep). Sixteen (two AVX-512 vectors in flight) rather than eight:
+  // a walk with resampled next events reads that many and more (docs/findings/candidates.md).
+  // The numbers are the same either way.
   void read_ahead() { reads_ahead_ = true; }
 
   // Uniform integer in [0, n) for n >= 1 (Lemire's multiply-shift; bias < n / 2^32).
@@ -113,7 +115,7 @@ class RandomStream {
  private:
   void refill();
 
-  static constexpr std::size_t kAhead = 8;
+  static constexpr std::size_t kAhead = 16;
 
   PhiloxKey key_;
   PhiloxCounter counter_;  // counter_[0] counts blocks
