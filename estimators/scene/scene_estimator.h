@@ -54,7 +54,8 @@ class ScenePass {
   // Queued (when queues_connections() is true): each connection asked of `queue`
   // (ConnectionQueue::connect, integrands/scenes/connection_queue.h) as it is found; the
   // renderer resolves a row's queue at once, its shadow rays in Embree packets, and adds and
-  // records each connection whole. The form for estimators that add each connection as it is.
+  // records each connection whole. The fast form, for estimators whose every connection is its
+  // weighted value times a factor known before it is made (pt, BDPT, ris's kept sample).
   virtual bool queues_connections() const { return false; }
   virtual void queue_connections(const LightPool& pool, CameraPrefix& prefix,
                                  ConnectionQueue& queue) const {
@@ -64,7 +65,8 @@ class ScenePass {
   }
   // Immediate: their sum, each MIS-weighted by RenderServices::connect (its shadow ray traced
   // there and then) and its share recorded by RenderServices::record (the strategy images must
-  // add up to the image). The form for estimators that scale or resample what they connect.
+  // add up to the image). The form of the estimators not moved to the queue, and of those that
+  // use a connection's value or shadow ray before they add it (a visible target's kept sample).
   virtual Rgb connections(const LightPool& pool, CameraPrefix& prefix) const {
     (void)pool;
     (void)prefix;
