@@ -1,6 +1,7 @@
 // Rays in Embree packets and paths in lanes against the one-ray code they stand in for: the same
 // hits (triangle and distance, to the bit), the same occlusion answers, and the same subpaths
-// (every vertex's every member), on every built-in scene. What the renderer's images owe to
+// (every vertex's every member), on every built-in scene; the Lambertian scatter in lanes
+// against walk_scatter on edge cases. What the renderer's images owe to
 // these is checked whole by ctest estimators.hashes; these name the part that differs.
 #include <gtest/gtest.h>
 
@@ -13,7 +14,9 @@
 #include "integrands/scenes/built_in_scenes.h"
 #include "integrands/scenes/path_lanes.h"
 #include "integrands/scenes/path_vertex.h"
+#include "integrands/scenes/scatter_lanes.h"
 #include "integrands/scenes/scene.h"
+#include "integrands/scenes/turn_trig.h"
 #include "test_support.h"
 
 namespace pcbench::scene {
@@ -150,6 +153,85 @@ TEST_P(ScenePackets, WalkLanesIsTheOneRayWalk) {
     EXPECT_EQ(alone.uniform(), streams[p].uniform()) << "pixel " << p;
   }
   EXPECT_GE(rays, vertices);
+}
+
+// The Lambertian scatter in lanes against walk_scatter lane by lane, on inputs a render rarely
+// gives: the step's uniform at 0, tiny and next to 1 (a sample in the surface's plane, which is
+// invalid), directions to the previous vertex grazing or below the surface, normals along the
+// axes (the frame's sign switch at n.z = 0), a camera or a surface vertex before.
+TEST(ScatterLanes, LambertianIsWalkScatter) {
+  const Scene scene = built_in("cornell");
+  std::uint32_t diffuse = 0;
+  while (scene.material(diffuse).kind != MaterialKind::kDiffuse) ++diffuse;
+  RandomStream rng(stream_of(1));
+  const Vec3 normals[] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0}, {0.6, 0.0, 0.8}};
+  const double u1s[] = {0.0, 1e-300, 0.5, 1.0 - 0x1p-53, 0.999};
+  std::vector<std::vector<PathVertex>> paths, expected_paths;
+  std::vector<Walk> expected_walks;
+  std::vector<std::uint8_t> expected_goes;
+  std::vector<WalkLane> lanes;
+  LaneBuffers buffers;
+  for (const Vec3& normal : normals) {
+    for (const double u1 : u1s) {
+      for (int i = 0; i < 8; ++i) {
+        // wo: random, with one grazing (in the plane) and the rest on either side.
+        Vec3 wo = normalize(Vec3{rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5});
+        if (i == 0) wo = normalize(wo - normal * dot(wo, normal));
+        PathVertex before;
+        before.kind = i % 2 == 0 ? VertexKind::kCamera : VertexKind::kSurface;
+        before.normal = normalize(Vec3{0.3, 1.0, -0.2});
+        PathVertex current;
+        current.position = {0.1, 0.2, 0.3};
+        current.normal = normal;
+        current.to_previous = wo;
+        current.triangle = diffuse;
+        before.position = current.position + wo * 0.7;
+        const Walk walk{.direction = -wo,
+                        .direction_pdf = 0.4,
+                        .beta = {0.5, 0.25, 1.0},
+                        .max_vertices = 8,
+                        .previous_delta = i == 3};
+        const Hit hit{.distance = 0.7, .triangle = diffuse};
+        const double u2 = rng.uniform();
+        const CosSin azimuth = cos_sin_of_turn(u2);
+        paths.push_back({before, current});
+        expected_paths.push_back({before, current});
+        Walk alone = walk;
+        expected_goes.push_back(
+            walk_scatter(scene, hit, u1, azimuth, expected_paths.back(), alone) ? 1 : 0);
+        expected_walks.push_back(alone);
+        lanes.push_back({walk, nullptr, nullptr});
+        const auto k = static_cast<std::uint32_t>(buffers.hits.size());
+        buffers.active.push_back(k);
+        buffers.scattering.push_back(k);
+        buffers.lambertian.push_back(k);
+        buffers.hits.push_back(hit);
+        buffers.u1.push_back(u1);
+        buffers.cos.push_back(azimuth.cos);
+        buffers.sin.push_back(azimuth.sin);
+      }
+    }
+  }
+  for (std::size_t j = 0; j < lanes.size(); ++j) lanes[j].path = &paths[j];
+  buffers.goes.assign(lanes.size(), 2);
+  scatter_lambertian(scene, lanes, buffers);
+  std::size_t went = 0;
+  for (std::size_t j = 0; j < lanes.size(); ++j) {
+    ASSERT_EQ(buffers.goes[j], expected_goes[j]) << "lane " << j;
+    const Walk& got = lanes[j].walk;
+    const Walk& want = expected_walks[j];
+    EXPECT_EQ(std::memcmp(&got.beta, &want.beta, sizeof(Rgb)), 0) << "lane " << j;
+    EXPECT_TRUE(same_bits(paths[j][0], expected_paths[j][0])) << "lane " << j;
+    if (!expected_goes[j]) continue;
+    ++went;
+    EXPECT_EQ(std::memcmp(&got.direction, &want.direction, sizeof(Vec3)), 0) << "lane " << j;
+    EXPECT_EQ(std::memcmp(&got.direction_pdf, &want.direction_pdf, sizeof(double)), 0)
+        << "lane " << j;
+    EXPECT_EQ(got.previous_delta, want.previous_delta) << "lane " << j;
+  }
+  // Both outcomes were seen.
+  EXPECT_GT(went, lanes.size() / 4);
+  EXPECT_LT(went, lanes.size());
 }
 
 INSTANTIATE_TEST_SUITE_P(BuiltIn, ScenePackets,

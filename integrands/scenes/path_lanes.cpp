@@ -1,5 +1,6 @@
 #include "integrands/scenes/path_lanes.h"
 
+#include "integrands/scenes/scatter_lanes.h"
 #include "integrands/scenes/turn_trig.h"
 
 namespace pcbench::scene {
@@ -41,14 +42,23 @@ void walk_lanes(const Scene& scene, std::span<WalkLane> lanes, LaneBuffers& buff
     buffers.cos.resize(m);
     buffers.sin.resize(m);
     cos_sin_of_turns(std::span(buffers.u2).first(m), buffers.cos, buffers.sin);
-    buffers.next.clear();
+    // The lanes on Lambertian surfaces scatter together, in SIMD lanes; the others one by one.
+    buffers.goes.resize(m);
+    buffers.lambertian.clear();
     for (std::size_t j = 0; j < m; ++j) {
       const std::uint32_t k = scattering[j];
-      WalkLane& lane = lanes[active[k]];
-      if (walk_scatter(scene, buffers.hits[k], buffers.u1[j], {buffers.cos[j], buffers.sin[j]},
-                       *lane.path, lane.walk)) {
-        buffers.next.push_back(active[k]);
+      if (scene.material(buffers.hits[k].triangle).kind == MaterialKind::kDiffuse) {
+        buffers.lambertian.push_back(static_cast<std::uint32_t>(j));
+        continue;
       }
+      WalkLane& lane = lanes[active[k]];
+      buffers.goes[j] = walk_scatter(scene, buffers.hits[k], buffers.u1[j],
+                                     {buffers.cos[j], buffers.sin[j]}, *lane.path, lane.walk);
+    }
+    scatter_lambertian(scene, lanes, buffers);
+    buffers.next.clear();
+    for (std::size_t j = 0; j < m; ++j) {
+      if (buffers.goes[j]) buffers.next.push_back(active[scattering[j]]);
     }
     active.swap(buffers.next);
   }
