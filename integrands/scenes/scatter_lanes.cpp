@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "base/lane_select.h"
+#include "integrands/scenes/bsdf.h"
 
 namespace pcbench::scene {
 namespace {
@@ -28,28 +29,18 @@ struct Chunk {
   double goes[kChunk];   // 1: and the new beta not black
 };
 
-// walk_scatter's arithmetic for a Lambertian vertex (bsdf_sample, bsdf_pdf both ways,
-// sample_cosine_hemisphere, Frame), lane by lane.
+// walk_scatter's arithmetic for a Lambertian vertex, lane by lane: the direction by bsdf.h's own
+// inline facing and sample_cosine_hemisphere (which vectorise), the densities and f as
+// bsdf_pdf's and bsdf_eval's Lambertian branches compute them.
 [[gnu::target_clones("avx512f", "avx2", "default")]] void scatter(Chunk& c) {
   for (std::size_t j = 0; j < c.size; ++j) {
     const Vec3 normal{c.n_x[j], c.n_y[j], c.n_z[j]};
     const Vec3 wo{c.wo_x[j], c.wo_y[j], c.wo_z[j]};
-    // bsdf_detail::facing: the normal on wo's side (facing it again leaves it as it is).
-    const bool flip = dot(normal, wo) < 0.0;
-    const Vec3 n{lane_select(flip, -normal.x, normal.x), lane_select(flip, -normal.y, normal.y),
-                 lane_select(flip, -normal.z, normal.z)};
-    // sample_cosine_hemisphere in Frame(n).
-    const double r = std::sqrt(c.u1[j]);
-    const double one_minus = 1.0 - c.u1[j];
-    const Vec3 local{r * c.cos[j], r * c.sin[j],
-                     std::sqrt(lane_select(0.0 < one_minus, one_minus, 0.0))};
-    const double sign = std::copysign(1.0, n.z);
-    const double a = -1.0 / (sign + n.z);
-    const double b = n.x * n.y * a;
-    const Vec3 s{1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x};
-    const Vec3 t{b, sign + n.y * n.y * a, -n.y};
-    const Vec3 wi = local.x * s + local.y * t + local.z * n;
-    // bsdf_pdf and bsdf_eval at n, and the sample's validity.
+    // The normal on wo's side (facing it again, as bsdf_pdf and bsdf_eval do, leaves it).
+    const Vec3 n = bsdf_detail::facing(normal, wo);
+    const Vec3 wi = sample_cosine_hemisphere(n, c.u1[j], {c.cos[j], c.sin[j]});
+    // bsdf_pdf's and bsdf_eval's Lambertian branches at n, and the sample's validity; their
+    // same-side test with & (bsdf_detail::same_side's && is a branch, which stops the vectoriser).
     const double n_wi = dot(n, wi);
     const bool same = (dot(n, wo) > 0.0) & (n_wi > 0.0);
     const double pdf = lane_select(same, n_wi * kInvPi, 0.0);
@@ -63,10 +54,7 @@ struct Chunk {
     const double beta_g = c.b_g[j] * f_g * q;
     const double beta_b = c.b_b[j] * f_b * q;
     const bool black = (beta_r == 0.0) & (beta_g == 0.0) & (beta_b == 0.0);
-    const bool back_flip = dot(normal, wi) < 0.0;
-    const Vec3 n_back{lane_select(back_flip, -normal.x, normal.x),
-                      lane_select(back_flip, -normal.y, normal.y),
-                      lane_select(back_flip, -normal.z, normal.z)};
+    const Vec3 n_back = bsdf_detail::facing(normal, wi);  // bsdf_pdf(normal, wi, wo)'s
     const double n_back_wo = dot(n_back, wo);
     const bool back_same = (dot(n_back, wi) > 0.0) & (n_back_wo > 0.0);
     const double pdf_back = lane_select(back_same, n_back_wo * kInvPi, 0.0);

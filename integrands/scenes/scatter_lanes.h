@@ -1,7 +1,8 @@
 // The scatter half of a round of walks (walk_scatter, path_vertex.h) for the lanes whose vertex
 // is on a Lambertian surface, computed together in SIMD lanes: the facing normal and its frame,
 // the cosine-weighted direction, f and both densities, the throughput's update and the reverse
-// density of the vertex before. In walk_scatter's order of operations, without fused
+// density of the vertex before. Until then they were 10% of path tracing's time, one lane at a
+// time (docs/findings/lanes.md). In walk_scatter's order of operations, without fused
 // multiply-adds (the file is built without contraction: CMakeLists.txt) and with IEEE's exact
 // roots and quotients, so every walk is the one walk_scatter makes, to the bit
 // (ScenePackets.*; ctest estimators.hashes).
