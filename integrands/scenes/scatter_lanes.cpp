@@ -68,7 +68,7 @@ struct Chunk {
     c.pdf[j] = pdf;
     c.pdf_rev[j] = pdf_back * c.before_cos[j] * inv_distance_squared;
     c.valid[j] = valid ? 1.0 : 0.0;
-    c.goes[j] = valid & !black ? 1.0 : 0.0;
+    c.goes[j] = (valid & !black) ? 1.0 : 0.0;
   }
 }
 
