@@ -1,13 +1,14 @@
 // The next-event connections of many prefixes at once (integrands/scenes/next_event_batch.h)
 // against connect() and mis_weight() one at a time, on every built-in scene: the same values,
 // weights and counters to the bit, under path tracing's counts and others with no strategy but
-// emitter hits and next events; and the queue's emitter samples (ConnectionQueue::
-// connect_emitter_sample) against vertices sampled beforehand. The images these make are
-// checked whole by ctest estimators.hashes.
+// emitter hits and next events; the queue's emitter samples (ConnectionQueue::
+// connect_emitter_sample) against vertices sampled beforehand; and a prefix's subtotal. The
+// images these make are checked whole by ctest estimators.hashes.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -166,6 +167,49 @@ TEST_P(NextEventBatchOn, QueuedEmitterSamplesAreSampledVertices) {
   if (GetParam() != "door-ajar") {
     EXPECT_GT(nonzero, 100u);
   }
+}
+
+// A prefix's subtotal (ConnectionQueue::begin_subtotal, pcbpt's next event then its draws):
+// the prefix adds a + (b + c), not (a + b) + c, and each request's own value is unchanged; a
+// second subtotal for one prefix is an error.
+TEST(ConnectionQueueSum, SubtotalAddsItsGroupFirst) {
+  const Scene scene = small_scene("cornell");
+  const auto paths = camera_paths(scene, 0x5ab7);
+  ConnectionQueue queue;
+  TraceCounters counters;
+  RandomStream rng({.key = 0x5ab7, .purpose = StreamPurpose::kEstimatorAux});
+  for (std::uint32_t p = 0; p < paths.size(); ++p) {
+    for (std::uint32_t t = 2; t <= paths[p].size(); ++t) {
+      const CameraPrefix prefix{.pixel = p,
+                                .vertices = std::span(paths[p]).first(t),
+                                .max_s = 1,
+                                .camera = rng,
+                                .draws = rng,
+                                .counters = counters};
+      queue.begin_prefix(prefix, false, {});
+      queue.connect_emitter_sample(rng, prefix, 0.3);
+      queue.begin_subtotal(prefix);
+      EXPECT_THROW(queue.begin_subtotal(prefix), std::logic_error);
+      queue.connect_emitter_sample(rng, prefix, 0.7);
+      queue.connect_emitter_sample(rng, prefix, 1.1);
+    }
+  }
+  queue.resolve(scene, StrategyCounts{.connection = 0.0}, counters);
+  std::size_t order_matters = 0;  // prefixes where (a + b) + c would differ
+  for (const auto& prefix : queue.prefixes()) {
+    ASSERT_EQ(prefix.end - prefix.first, 3u);
+    const Rgb& a = queue.value(prefix.first);
+    const Rgb& b = queue.value(prefix.first + 1);
+    const Rgb& c = queue.value(prefix.first + 2);
+    const Rgb want = a + (b + c), left_first = (a + b) + c;
+    const Rgb got = queue.sum(prefix);
+    ASSERT_TRUE(same_bits(got.r, want.r) && same_bits(got.g, want.g) && same_bits(got.b, want.b));
+    if (!same_bits(left_first.r, want.r) || !same_bits(left_first.g, want.g) ||
+        !same_bits(left_first.b, want.b)) {
+      ++order_matters;
+    }
+  }
+  EXPECT_GT(order_matters, 10u);  // the comparison could fail
 }
 
 TEST(NextEventBatch, AppliesOnlyToNextEventsUnderCountsWithNothingElse) {

@@ -23,22 +23,22 @@ namespace {
 
 class LightVertexCachePass final : public ScenePass {
  public:
-  LightVertexCachePass(const RenderServices& services, const LvcConfig& config)
-      : services_(services), config_(config) {}
+  explicit LightVertexCachePass(const LvcConfig& config) : config_(config) {}
 
   void prepare(const LightPool& pool, TraceCounters&) override { vertices_ = light_vertices(pool); }
 
-  Rgb connections(const LightPool& pool, CameraPrefix& prefix) const override {
-    if (vertices_.empty()) return {};
+  bool queues_connections() const override { return true; }
+  void queue_connections(const LightPool& pool, CameraPrefix& prefix,
+                         ConnectionQueue& queue) const override {
+    if (vertices_.empty()) return;
     UniformVertexDraw draw =
         uniform_vertex_draw(vertices_.size(), pool.paths.size(), config_.draws);
     if (config_.per_vertex_normalisation)
       draw.coefficient = 1.0 / static_cast<double>(config_.draws);
-    return connect_drawn_vertices(services_, pool, vertices_, prefix, config_.draws, draw);
+    queue_drawn_vertices(pool, vertices_, prefix, config_.draws, draw, queue);
   }
 
  private:
-  const RenderServices& services_;
   LvcConfig config_;
   std::vector<LightVertexRef> vertices_;
 };
@@ -51,8 +51,8 @@ class LightVertexCache final : public SceneEstimator {
   StrategyCounts strategy_counts(const Scene&) const override {
     return vertex_draw_counts(config_.light_paths, config_.draws);
   }
-  std::unique_ptr<ScenePass> begin_replicate(const RenderServices& services) const override {
-    return std::make_unique<LightVertexCachePass>(services, config_);
+  std::unique_ptr<ScenePass> begin_replicate(const RenderServices&) const override {
+    return std::make_unique<LightVertexCachePass>(config_);
   }
 
  private:

@@ -110,66 +110,72 @@ class ProbabilisticPass final : public ScenePass {
     return resampling_counts_ ? &*resampling_counts_ : nullptr;
   }
 
-  Rgb connections(const LightPool& pool, CameraPrefix& prefix) const override {
-    if (!config_.nee_fresh) return drawn_connections(pool, prefix);
-    Rgb value = next_event(prefix);
+  // Every connection is queued (ConnectionQueue), the row's shadow rays traced as packets.
+  bool queues_connections() const override { return true; }
+  void queue_connections(const LightPool& pool, CameraPrefix& prefix,
+                         ConnectionQueue& queue) const override {
+    if (!config_.nee_fresh) return queue_drawn(pool, prefix, queue);
+    // nee=fresh: an emitter vertex of its own for the camera vertex, drawn as a light subpath's
+    // first vertex is (sample_emitter_vertex) from the pixel's camera stream where its subpath
+    // left it, as path tracing does: independent of the pool and of every other pixel. The
+    // draws' connections add up on their own before they join it.
+    queue.connect_emitter_sample(prefix.camera, prefix);
     // Every candidate has s >= 2: none fits a prefix with room for one light vertex only.
-    if (prefix.max_s >= 2) value += drawn_connections(pool, prefix);
-    return value;
+    if (prefix.max_s < 2) return;
+    queue.begin_subtotal(prefix);
+    queue_drawn(pool, prefix, queue);
   }
 
  private:
   std::uint32_t m() const { return config_.light_paths; }
 
-  // nee=fresh: an emitter vertex of its own for the camera vertex, drawn as a light subpath's
-  // first vertex is (sample_emitter_vertex) from the pixel's camera stream where its subpath
-  // left it, as path tracing does: independent of the pool and of every other pixel.
-  Rgb next_event(CameraPrefix& prefix) const {
-    const PathVertex emitter = sample_emitter_vertex(services_.scene(), prefix.camera);
-    return services_.connect_recorded(std::span(&emitter, 1), prefix);
-  }
-
   // The K draws among the candidates and their connections.
-  Rgb drawn_connections(const LightPool& pool, CameraPrefix& prefix) const {
-    if (vertices_.empty()) return {};
-    if (config_.lookup == PcbptConfig::Lookup::kNearest) return connect_from_mixture(pool, prefix);
-    if (config_.lookup == PcbptConfig::Lookup::kExact) return connect_exact(pool, prefix);
+  void queue_drawn(const LightPool& pool, CameraPrefix& prefix, ConnectionQueue& queue) const {
+    if (vertices_.empty()) return;
+    if (config_.lookup == PcbptConfig::Lookup::kNearest) {
+      return queue_from_mixture(pool, prefix, queue);
+    }
+    if (config_.lookup == PcbptConfig::Lookup::kExact) return queue_exact(pool, prefix, queue);
     // lookup=tile: the block's cache point at this depth; deeper than its cache path, the first
     // hit's (guide=all) or a uniform draw, as the light vertex cache does.
     const std::uint32_t block = caches_.block_of(prefix.pixel);
     std::optional<std::uint32_t> cache = caches_.at(block, prefix.t() - 1);
     if (!cache && config_.guide_all) cache = caches_.at(block, 1);
     if (!cache) {
-      return connect_drawn_vertices(services_, pool, vertices_, prefix, config_.draws,
-                                    uniform_vertex_draw(vertices_.size(), m(), config_.draws));
+      return queue_drawn_vertices(pool, vertices_, prefix, config_.draws,
+                                  uniform_vertex_draw(vertices_.size(), m(), config_.draws), queue);
     }
     const std::vector<double>& pmf = caches_at_[*cache].pmf;
-    if (pmf.empty()) return {};
+    if (pmf.empty()) return;
     const double k = config_.draws;
     const double paths = m();
     const DiscreteSampler& sampler = caches_at_[*cache].sampler;
-    return connect_drawn_vertices(services_, pool, vertices_, prefix, config_.draws,
-                                  [&](RandomStream& draws) {
-                                    const std::uint32_t index = sampler.draw(draws);
-                                    return VertexDraw{index, 1.0 / (k * paths * pmf[index])};
-                                  });
+    queue_drawn_vertices(
+        pool, vertices_, prefix, config_.draws,
+        [&](RandomStream& draws) {
+          const std::uint32_t index = sampler.draw(draws);
+          return VertexDraw{index, 1.0 / (k * paths * pmf[index])};
+        },
+        queue);
   }
 
   // K draws from the mixture of the nearest cache points' P and the uniform share, each
   // weighted by the mixture's exact PMF (cache_mixture.h).
-  Rgb connect_from_mixture(const LightPool& pool, CameraPrefix& prefix) const {
+  void queue_from_mixture(const LightPool& pool, CameraPrefix& prefix,
+                          ConnectionQueue& queue) const {
     std::uint32_t near[NearestCachePoints::kMaxFound];
     const std::uint32_t found =
         nearest_->find(prefix.vertices.back().position, config_.nearest, near);
-    return connect_drawn_from(
+    queue_drawn_from(
         pool, prefix,
         CacheMixture(caches_at_, std::span<const std::uint32_t>(near, found),
-                     static_cast<std::uint32_t>(vertices_.size()), config_.uniform_mix));
+                     static_cast<std::uint32_t>(vertices_.size()), config_.uniform_mix),
+        queue);
   }
 
   // lookup=exact: the camera vertex as its own cache point, its P built here over every
   // candidate (shadow rays included), mixed with the uniform share as the nearest lookup does.
-  Rgb connect_exact(const LightPool& pool, CameraPrefix& prefix) const {
+  void queue_exact(const LightPool& pool, CameraPrefix& prefix, ConnectionQueue& queue) const {
     const CachePoint here{.camera = Subpath(prefix.vertices.begin(), prefix.vertices.end()),
                           .depth = prefix.t() - 1};
     CacheDistribution own;
@@ -183,25 +189,25 @@ class ProbabilisticPass final : public ScenePass {
       own.sampler.build(own.pmf, DiscreteSamplerKind::kCdf);
     }
     const std::uint32_t self = 0;
-    return connect_drawn_from(
+    queue_drawn_from(
         pool, prefix,
         CacheMixture(std::span<const CacheDistribution>(&own, 1),
                      std::span<const std::uint32_t>(&self, 1),
-                     static_cast<std::uint32_t>(vertices_.size()), config_.uniform_mix));
+                     static_cast<std::uint32_t>(vertices_.size()), config_.uniform_mix),
+        queue);
   }
 
   // K draws from `mixture`, each weighted by its exact PMF (cache_mixture.h). A batch of draws is
-  // made, then their PMFs, then their connections: the draws' and the PMFs' lookups in the cache
-  // points' tables (caches × N_v entries, several MB) are cache misses, independent of each other
-  // within a step, which then overlap rather than each wait behind the last connection.
-  Rgb connect_drawn_from(const LightPool& pool, CameraPrefix& prefix,
-                         const CacheMixture& mixture) const {
+  // made, then their PMFs: the draws' and the PMFs' lookups in the cache points' tables (caches ×
+  // N_v entries, several MB) are cache misses, independent of each other within a step, which
+  // then overlap rather than each wait behind the last.
+  void queue_drawn_from(const LightPool& pool, CameraPrefix& prefix, const CacheMixture& mixture,
+                        ConnectionQueue& queue) const {
     const double k = config_.draws;
     const double paths = m();
-    constexpr std::uint32_t kBatch = std::min<std::uint32_t>(kDrawBatch, CacheMixture::kMaxMany);
+    constexpr auto kBatch = static_cast<std::uint32_t>(CacheMixture::kMaxMany);
     std::optional<std::uint32_t> index[kBatch];
     VertexDraw batch[kBatch];
-    Rgb value;
     for (std::uint32_t first = 0; first < config_.draws; first += kBatch) {
       const std::uint32_t size = std::min(kBatch, config_.draws - first);
       mixture.draw_many(prefix.draws, unseen_draw_nothing_, std::span(index, size));
@@ -214,9 +220,8 @@ class ProbabilisticPass final : public ScenePass {
           batch[d] = VertexDraw{*index[d], 1.0 / (k * paths * mixture.pmf(*index[d]))};
         }
       }
-      connect_vertex_draws(services_, pool, vertices_, prefix, std::span(batch, size), value);
+      queue_vertex_draws(pool, vertices_, prefix, std::span(batch, size), queue);
     }
-    return value;
   }
 
   // q_c(i) for every candidate at cache point c; the shadow rays are counted as connect()

@@ -55,7 +55,8 @@ class ScenePass {
   // (ConnectionQueue::connect, integrands/scenes/connection_queue.h) as it is found; the
   // renderer resolves a row's queue at once, its shadow rays in Embree packets, and adds and
   // records each connection whole. The fast form, for estimators whose every connection is its
-  // weighted value times a factor known before it is made (pt, BDPT, ris's kept sample).
+  // weighted value times a factor known before it is made (pt, BDPT, lvc, pcbpt, ris's kept
+  // sample).
   virtual bool queues_connections() const { return false; }
   virtual void queue_connections(const LightPool& pool, CameraPrefix& prefix,
                                  ConnectionQueue& queue) const {

@@ -9,6 +9,7 @@
 #include <span>
 #include <utility>
 
+#include "integrands/scenes/connection_queue.h"
 #include "integrands/scenes/render_services.h"
 
 namespace pcbench::scene {
@@ -19,41 +20,28 @@ struct VertexDraw {
   double coefficient = 0.0;
 };
 
-// Adds each drawn vertex's connection, times its coefficient, to `value` in order; vertices too
-// deep for the prefix (more than prefix.max_s) add nothing. Each connection's share is recorded
-// as drawn.
-inline void connect_vertex_draws(const RenderServices& services, const LightPool& pool,
-                                 std::span<const LightVertexRef> vertices, CameraPrefix& prefix,
-                                 std::span<const VertexDraw> drawn, Rgb& value) {
+// Queues each drawn vertex's connection times its coefficient (ConnectionQueue::connect, which
+// adds it to the pixel and records it as drawn when the row is resolved); vertices too deep for
+// the prefix (more than prefix.max_s) add nothing.
+inline void queue_vertex_draws(const LightPool& pool, std::span<const LightVertexRef> vertices,
+                               const CameraPrefix& prefix, std::span<const VertexDraw> drawn,
+                               ConnectionQueue& queue) {
   for (const VertexDraw& d : drawn) {
     const LightVertexRef& v = vertices[d.index];
     if (v.count > prefix.max_s) continue;
-    const Rgb share = d.coefficient * services.connect(light_prefix(pool, v), prefix);
-    value += share;
-    services.record(v.count, prefix, share);
+    queue.connect(light_prefix(pool, v), prefix, d.coefficient);
   }
 }
 
-// The most draws made before their connections (kept on the stack).
-inline constexpr std::uint32_t kDrawBatch = 16;
-
-// `draw(prefix.draws)` -> VertexDraw, `count` times, each connected as connect_vertex_draws does.
-// The draws are made a batch at a time before their connections (connect uses no random number,
-// so the numbers and every sum are as if each draw were connected at once): a guided draw reads
-// tables that may miss the cache, and the batch's lookups then overlap instead of each waiting
-// behind the previous draw's shadow ray.
+// `draw(prefix.draws)` -> VertexDraw, `count` times, each queued as queue_vertex_draws does.
 template <class Draw>
-Rgb connect_drawn_vertices(const RenderServices& services, const LightPool& pool,
-                           std::span<const LightVertexRef> vertices, CameraPrefix& prefix,
-                           std::uint32_t count, Draw&& draw) {
-  VertexDraw batch[kDrawBatch];
-  Rgb value;
-  for (std::uint32_t first = 0; first < count; first += kDrawBatch) {
-    const std::uint32_t size = std::min(kDrawBatch, count - first);
-    for (std::uint32_t d = 0; d < size; ++d) batch[d] = draw(prefix.draws);
-    connect_vertex_draws(services, pool, vertices, prefix, std::span(batch, size), value);
+void queue_drawn_vertices(const LightPool& pool, std::span<const LightVertexRef> vertices,
+                          CameraPrefix& prefix, std::uint32_t count, Draw&& draw,
+                          ConnectionQueue& queue) {
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const VertexDraw d = draw(prefix.draws);
+    queue_vertex_draws(pool, vertices, prefix, std::span(&d, 1), queue);
   }
-  return value;
 }
 
 // The strategy counts of K vertex draws per camera vertex from a pool of M light paths: K per

@@ -50,6 +50,25 @@ void ConnectionQueue::connect_emitter_sample(RandomStream& rng, const CameraPref
   ++prefixes_.back().end;
 }
 
+void ConnectionQueue::begin_subtotal(const CameraPrefix& prefix) {
+  Prefix& current = prefixes_.back();
+  check_current(current, prefix);
+  if (current.has_subtotal) {
+    throw std::logic_error("ConnectionQueue: a second subtotal for one prefix");
+  }
+  current.has_subtotal = true;
+  current.subtotal = current.end;
+}
+
+Rgb ConnectionQueue::sum(const Prefix& p) const {
+  Rgb total, group;
+  for (std::uint32_t i = p.first; i < p.end; ++i) {
+    (p.has_subtotal && i >= p.subtotal ? group : total) += values_[i];
+  }
+  if (p.has_subtotal) total += group;
+  return total;
+}
+
 void ConnectionQueue::clear() {
   prefixes_.clear();
   requests_.clear();

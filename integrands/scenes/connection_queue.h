@@ -74,6 +74,11 @@ class ConnectionQueue {
   // counts with no strategy but emitter hits and next events, the points are drawn in lanes
   // (Emitters::sample_many) and connected without becoming vertices (next_event_batch.h).
   void connect_emitter_sample(RandomStream& rng, const CameraPrefix& prefix, double scale = 1.0);
+  // The requests `prefix` queues after this call add up on their own first, and their sum joins
+  // the ones before it: the prefix adds a + (b_1 + b_2 + …), as an estimator whose immediate form
+  // added a group's sum to what it had (pcbpt's next event, then its draws' total) added it. At
+  // most once per prefix.
+  void begin_subtotal(const CameraPrefix& prefix);
 
   // For the renderer (render_services.cpp) ------------------------------------------------
   // Empties the queue for a new row.
@@ -93,11 +98,16 @@ class ConnectionQueue {
     bool adds_emitter_hit = false, connects = false;
     Rgb emitter_hit;
     std::uint32_t first = 0, end = 0;  // its requests
+    bool has_subtotal = false;
+    std::uint32_t subtotal = 0;  // with has_subtotal: the first request of begin_subtotal's group
   };
   std::span<const Prefix> prefixes() const { return prefixes_; }
   // Request i's strategy s and weighted value (after resolve).
   std::uint32_t strategy(std::uint32_t i) const { return requests_[i].s; }
   const Rgb& value(std::uint32_t i) const { return values_[i]; }
+  // What prefix p's requests add (after resolve): their values summed in order, begin_subtotal's
+  // group on its own first.
+  Rgb sum(const Prefix& p) const;
 
  private:
   struct Request {

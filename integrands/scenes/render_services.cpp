@@ -252,13 +252,11 @@ void RenderServices::camera_pass_queued(std::uint32_t index, Image& sum, TraceCo
       }
       if (p.adds_emitter_hit) value += p.emitter_hit;
       if (!p.connects) continue;
-      Rgb connections;
       for (std::uint32_t i = p.first; i < p.end; ++i) {
-        connections += queue.value(i);
         record(queue.strategy(i), static_cast<std::uint32_t>(p.camera.size()), p.pixel,
                queue.value(i));
       }
-      value += connections;
+      value += queue.sum(p);
     }
     for (; pixel < (y + 1) * width_; ++pixel) {
       add(sum, pixel, value);
