@@ -39,6 +39,11 @@ class DiscreteSampler {
     const std::uint32_t column = rng.uniform_index(static_cast<std::uint32_t>(columns_.size()));
     return {.column = column, .u = rng.uniform()};
   }
+  // Starts the load resolve(numbers) makes (an alias table's column), which misses the cache in a
+  // large table, so that it overlaps with the work done before resolve (pcbpt's next draws).
+  void prefetch(const Numbers& numbers) const {
+    if (kind_ == DiscreteSamplerKind::kAlias) __builtin_prefetch(&columns_[numbers.column]);
+  }
   std::uint32_t resolve(const Numbers& numbers) const {
     if (kind_ == DiscreteSamplerKind::kCdf) return index_at(numbers.u);
     const Column column = columns_[numbers.column];

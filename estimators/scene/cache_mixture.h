@@ -71,9 +71,19 @@ class CacheMixture {
       }
       sampler[d] = &c.sampler;
       numbers[d] = c.sampler.numbers(rng);
+      c.sampler.prefetch(numbers[d]);
     }
     for (std::size_t d = 0; d < drawn.size(); ++d) {
       if (sampler[d] != nullptr) drawn[d] = sampler[d]->resolve(numbers[d]);
+      if (drawn[d]) prefetch_pmf(*drawn[d]);
+    }
+  }
+
+  // Starts the loads pmf(index) makes (an entry of each nearest cache point's P, tables that
+  // miss the cache), so that a batch's overlap.
+  void prefetch_pmf(std::uint32_t index) const {
+    for (std::uint32_t c : nearest_) {
+      if (!caches_[c].pmf.empty()) __builtin_prefetch(&caches_[c].pmf[index]);
     }
   }
 
