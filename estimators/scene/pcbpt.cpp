@@ -225,30 +225,38 @@ class ProbabilisticPass final : public ScenePass {
   }
 
   // q_c(i) for every candidate at cache point c; the shadow rays are counted as connect()
-  // counts its own (skipped in a convex enclosure, where nothing is occluded).
+  // counts its own (skipped in a convex enclosure, where nothing is occluded). The rays of the
+  // candidates with q > 0 share their end at c and are traced together as Embree packets
+  // (Scene::occluded_many): one at a time they were a third of pcbpt's rays.
   void importance_at(const LightPool& pool, const CachePoint& cache, std::vector<double>& q,
                      TraceCounters& counters) const {
     const Scene& scene = services_.scene();
     const ConnectOptions unoccluded{
         .visibility = false, .weighted = config_.importance == PcbptConfig::Importance::kWeighted};
+    const bool traces = config_.cache_visibility && !scene.traits().convex_enclosure;
+    std::vector<Scene::ShadowRay> rays;
+    std::vector<std::uint32_t> ray_of;  // the candidate each ray decides
     for (std::uint32_t i = 0; i < q.size(); ++i) {
       const std::span<const PathVertex> light = light_prefix(pool, vertices_[i]);
-      double value =
-          config_.importance == PcbptConfig::Importance::kLight
-              ? light_importance(scene, light.back(), cache.vertex())
-              : services_.connect(light, cache.camera, unoccluded, counters).max_channel();
-      if (value > 0.0 && config_.cache_visibility) {
-        if (scene.traits().convex_enclosure) {
-          ++counters.skipped_convex;
-        } else {
-          ++counters.shadow_rays;
-          if (scene.occluded(light.back().position, cache.vertex().position)) {
-            ++counters.occluded;
-            value *= config_.visibility_floor;
-          }
-        }
+      q[i] = config_.importance == PcbptConfig::Importance::kLight
+                 ? light_importance(scene, light.back(), cache.vertex())
+                 : services_.connect(light, cache.camera, unoccluded, counters).max_channel();
+      if (!(q[i] > 0.0) || !config_.cache_visibility) continue;
+      if (!traces) {
+        ++counters.skipped_convex;
+        continue;
       }
-      q[i] = value;
+      rays.push_back(scene.shadow_ray(light.back().position, cache.vertex().position));
+      ray_of.push_back(i);
+    }
+    if (rays.empty()) return;
+    std::vector<std::uint8_t> blocked(rays.size());
+    scene.occluded_many(rays, blocked);
+    counters.shadow_rays += rays.size();
+    for (std::size_t k = 0; k < rays.size(); ++k) {
+      if (!blocked[k]) continue;
+      ++counters.occluded;
+      q[ray_of[k]] *= config_.visibility_floor;
     }
   }
 
