@@ -33,6 +33,17 @@ bool same_bits(double a, double b) {
 
 class NextEventBatchOn : public ::testing::TestWithParam<std::string> {};
 
+// Prefix y_0 .. y_{t-1} of pixel p's path with room for one light vertex, both streams `rng`.
+CameraPrefix next_event_prefix(const std::vector<std::vector<PathVertex>>& paths, std::uint32_t p,
+                               std::uint32_t t, RandomStream& rng, TraceCounters& counters) {
+  return {.pixel = p,
+          .vertices = std::span(paths[p]).first(t),
+          .max_s = 1,
+          .camera = rng,
+          .draws = rng,
+          .counters = counters};
+}
+
 Scene small_scene(const std::string& name) {
   SceneDescription d = *built_in_scene(name);
   d.width = d.height = kResolution;
@@ -118,18 +129,8 @@ TEST_P(NextEventBatchOn, QueuedEmitterSamplesAreSampledVertices) {
       made.clear();
       for (std::uint32_t p = 0; p < paths.size(); ++p) {
         for (std::uint32_t t = 2; t <= paths[p].size(); ++t) {
-          const CameraPrefix a{.pixel = p,
-                               .vertices = std::span(paths[p]).first(t),
-                               .max_s = 1,
-                               .camera = rng_a,
-                               .draws = rng_a,
-                               .counters = sampled_counters};
-          const CameraPrefix b{.pixel = p,
-                               .vertices = std::span(paths[p]).first(t),
-                               .max_s = 1,
-                               .camera = rng_b,
-                               .draws = rng_b,
-                               .counters = made_counters};
+          const CameraPrefix a = next_event_prefix(paths, p, t, rng_a, sampled_counters);
+          const CameraPrefix b = next_event_prefix(paths, p, t, rng_b, made_counters);
           sampled.begin_prefix(a, false, {});
           made.begin_prefix(b, false, {});
           sampled.connect_emitter_sample(rng_a, a, 0.5);
@@ -180,12 +181,7 @@ TEST(ConnectionQueueSum, SubtotalAddsItsGroupFirst) {
   RandomStream rng({.key = 0x5ab7, .purpose = StreamPurpose::kEstimatorAux});
   for (std::uint32_t p = 0; p < paths.size(); ++p) {
     for (std::uint32_t t = 2; t <= paths[p].size(); ++t) {
-      const CameraPrefix prefix{.pixel = p,
-                                .vertices = std::span(paths[p]).first(t),
-                                .max_s = 1,
-                                .camera = rng,
-                                .draws = rng,
-                                .counters = counters};
+      const CameraPrefix prefix = next_event_prefix(paths, p, t, rng, counters);
       queue.begin_prefix(prefix, false, {});
       queue.connect_emitter_sample(rng, prefix, 0.3);
       queue.begin_subtotal(prefix);
