@@ -4,10 +4,8 @@
 // has coefficient N_v / (K M) (vertices drawn, paths counted); a draw from P has 1 / (K M P).
 #pragma once
 
-#include <algorithm>
 #include <cstdint>
 #include <span>
-#include <utility>
 
 #include "integrands/scenes/connection_queue.h"
 #include "integrands/scenes/render_services.h"

@@ -1,9 +1,9 @@
 // Scene::intersect_many and occluded_many: rays in Embree packets (rtcIntersect16/8/4,
 // rtcOccluded16/8/4 by Scene::packet_width), each ray set up exactly as intersect() and occluded()
 // set up one (the same floats), so that a packet's answers are the single rays' answers as far as
-// Embree's kernels agree. They do not always: pcbpt's importance rays, which graze the door of
-// door-ajar, were blocked for rtcOccluded1 and free in a packet 8 times in about 60,000 (32²,
-// cornell and door-ajar), so moving rays from one to the other can change an image's numbers.
+// Embree's kernels agree. They do not always: of pcbpt's importance rays in one run (32²,
+// cornell and door-ajar, 4 spp × 2), 8 were blocked for rtcOccluded1 and free in a packet, the
+// 8th at ray 59,386; so moving rays from one to the other can change an image's numbers.
 #include <embree3/rtcore.h>
 
 #include <algorithm>
