@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "integrands/scenes/next_event_batch.h"
+#include "integrands/scenes/connection_lanes.h"
 #include "integrands/scenes/render_services.h"
 
 namespace pcbench::scene {
@@ -135,18 +135,22 @@ void ConnectionBatch::connect_all(const Scene& scene, const StrategyCounts& coun
                                   std::span<const ConnectionPair> pairs, std::span<Rgb> values,
                                   TraceCounters& counters,
                                   std::span<std::optional<PixelPosition>> pixels) {
-  // The unweighted, unoccluded values: next-event connections under counts with nothing else
-  // (pt) in lanes, value and weight together (next_event_batch.h); any others one at a time
-  // through connect(), and mis_weight() for those not blocked.
+  // The unweighted, unoccluded values in lanes (connection_lanes.h): next-event connections
+  // under counts with nothing else (pt) value and weight together; a batch of other
+  // connections with t >= 2 (a row's) the values, mis_weight() for those not blocked. Light
+  // tracing's (t = 1, the lens end) one at a time through connect().
   const bool next_events = pixels.empty() && next_event_only(counts) && all_next_events(pairs);
+  const bool in_lanes = next_events || (pixels.empty() && all_camera_surface_ends(pairs));
   if (next_events) {
     weights_.resize(pairs.size());
     next_event_values_and_weights(scene, counts, pairs, values, weights_, counters);
+  } else if (in_lanes) {
+    connection_values(scene, counts, pairs, values, counters);
   }
   trace_and_weigh_each(
       scene,
       [&](std::uint32_t i) {  // each value just before its shadow ray, while its ends are at hand
-        if (next_events) return;
+        if (in_lanes) return;
         std::optional<PixelPosition>* pixel = pixels.empty() ? nullptr : &pixels[i];
         values[i] = scene::connect(scene, pairs[i].light, pairs[i].camera, counts,
                                    {.visibility = false, .weighted = false}, counters, pixel);

@@ -39,7 +39,7 @@ class ConnectionBatch {
   void connect_all(const Scene& scene, const StrategyCounts& counts,
                    std::span<const ConnectionPair> pairs, std::span<Rgb> values,
                    TraceCounters& counters, std::span<std::optional<PixelPosition>> pixels = {});
-  // For connections whose unoccluded values come with their weights (next_event_batch.h): the
+  // For connections whose unoccluded values come with their weights (connection_lanes.h): the
   // shadow rays of the values that are not 0, light_ends[i] to camera_ends[i], as packets; each
   // unblocked value times weights[i], each blocked one 0, counted as connect_all counts.
   void trace_and_weigh(const Scene& scene, std::span<const Vec3> light_ends,
@@ -54,7 +54,7 @@ class ConnectionBatch {
   void trace_and_weigh_each(const Scene& scene, const Value& value, const Ends& ends,
                             const Weight& weight, std::span<Rgb> values, TraceCounters& counters);
 
-  std::vector<double> weights_;  // next_event_batch.h's, when it computed the values
+  std::vector<double> weights_;  // connection_lanes.h's, when it computed the values
   std::vector<Scene::ShadowRay> shadows_;
   std::vector<std::uint32_t> shadowed_;  // the pair each shadow ray decides
   std::vector<std::uint8_t> blocked_;
@@ -72,7 +72,7 @@ class ConnectionQueue {
   // connect(sample_emitter_vertex(scene, rng), prefix, scale), the vertex's three uniforms drawn
   // from `rng` now and its point made when the row is resolved, with the row's others: under
   // counts with no strategy but emitter hits and next events, the points are drawn in lanes
-  // (Emitters::sample_many) and connected without becoming vertices (next_event_batch.h).
+  // (Emitters::sample_many) and connected without becoming vertices (connection_lanes.h).
   void connect_emitter_sample(RandomStream& rng, const CameraPrefix& prefix, double scale = 1.0);
   // The requests `prefix` queues after this call add up on their own first, and their sum joins
   // the ones before it: the prefix adds a + (b_1 + b_2 + …), as an estimator whose immediate form

@@ -1,7 +1,7 @@
 // One SIMD lane of a next event x -> y (x an emitter point, y the camera end y_{t-1}): the
 // arithmetic connect() does for strategy (1, t), written once for the two kernels that run it
 // across lanes with different layouts: NextEventValues (next_event_values.cpp: one camera end,
-// many points, a resampling step's candidates) and next_event_batch.cpp (a point per camera end,
+// many points, a resampling step's candidates) and connection_lanes.cpp (a point per camera end,
 // a row's next events). Each step is inline so that the kernel's loop, built without
 // contraction and without errno (CMakeLists.txt), vectorises with it; the order of operations is
 // connect()'s, so both kernels give its values to the bit.

@@ -20,7 +20,7 @@ struct CameraEnd {
 // Three passes over the batch: (1) in lanes, the segment from x to y, its direction w and the
 // geometry and emission terms; (2) f_y(wo, -w): a Lambertian end's in lanes, any other's
 // through bsdf_eval one point at a time; (3) in lanes, the products in connect()'s order and
-// the zero tests; each lane's arithmetic next_event_lane.h's, which next_event_batch.cpp's
+// the zero tests; each lane's arithmetic next_event_lane.h's, which connection_lanes.cpp's
 // lanes share. Built three times, for SSE2, AVX2 and AVX-512 (8 doubles wide; no FMA in any:
 // see the header), the widest the machine has chosen at run time.
 // Returns how many values were zero with a segment of nonzero length (skipped_zero).

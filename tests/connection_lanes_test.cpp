@@ -1,9 +1,9 @@
-// The next-event connections of many prefixes at once (integrands/scenes/next_event_batch.h)
+// A row's connections many at a time (integrands/scenes/connection_lanes.h): next events
 // against connect() and mis_weight() one at a time, on every built-in scene: the same values,
 // weights and counters to the bit, under path tracing's counts and others with no strategy but
-// emitter hits and next events; the queue's emitter samples (ConnectionQueue::
-// connect_emitter_sample) against vertices sampled beforehand; and a prefix's subtotal. The
-// images these make are checked whole by ctest estimators.hashes.
+// emitter hits and next events; any other connection's value against connect()'s; the queue's
+// emitter samples (ConnectionQueue::connect_emitter_sample) against vertices sampled beforehand;
+// and a prefix's subtotal. The images these make are checked whole by ctest estimators.hashes.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -15,8 +15,8 @@
 #include "base/rng.h"
 #include "integrands/scenes/built_in_scenes.h"
 #include "integrands/scenes/connection.h"
+#include "integrands/scenes/connection_lanes.h"
 #include "integrands/scenes/connection_queue.h"
-#include "integrands/scenes/next_event_batch.h"
 #include "integrands/scenes/path_vertex.h"
 #include "integrands/scenes/render_services.h"
 #include "integrands/scenes/scene.h"
@@ -31,7 +31,7 @@ bool same_bits(double a, double b) {
   return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
-class NextEventBatchOn : public ::testing::TestWithParam<std::string> {};
+class ConnectionLanesOn : public ::testing::TestWithParam<std::string> {};
 
 // Prefix y_0 .. y_{t-1} of pixel p's path with room for one light vertex, both streams `rng`.
 CameraPrefix next_event_prefix(const std::vector<std::vector<PathVertex>>& paths, std::uint32_t p,
@@ -62,7 +62,7 @@ std::vector<std::vector<PathVertex>> camera_paths(const Scene& scene, std::uint6
   return paths;
 }
 
-TEST_P(NextEventBatchOn, ValuesWeightsAndCountersAreConnectsAndMisWeights) {
+TEST_P(ConnectionLanesOn, ValuesWeightsAndCountersAreConnectsAndMisWeights) {
   const Scene scene = small_scene(GetParam());
   const auto paths = camera_paths(scene, 0x7e58);
   // Every prefix with t >= 2, twice, each with an emitter vertex of its own.
@@ -107,12 +107,67 @@ TEST_P(NextEventBatchOn, ValuesWeightsAndCountersAreConnectsAndMisWeights) {
   EXPECT_GT(weighed, 100u);  // the comparison saw weights, not only zeros
 }
 
+// A light subpath from every pixel's stream of `key`.
+std::vector<std::vector<PathVertex>> light_paths(const Scene& scene, std::uint64_t key) {
+  std::vector<std::vector<PathVertex>> paths(kResolution * kResolution);
+  TraceCounters setup;
+  for (std::uint32_t p = 0; p < paths.size(); ++p) {
+    RandomStream rng({.key = key, .purpose = StreamPurpose::kLightPool, .path = p});
+    trace_light_path(scene, rng, scene.description().max_length, paths[p], setup);
+  }
+  return paths;
+}
+
+// connection_values, the values of every strategy with s >= 1 and t >= 2 in lanes (BDPT's
+// connections, the light vertex cache's and pcbpt's draws), against connect() one at a time:
+// emitter and surface light ends, Lambertian, Phong and mirror (delta) ends on the scenes that
+// have them, and counts that switch strategies off; the same values and counters to the bit.
+TEST_P(ConnectionLanesOn, ConnectionValuesAreConnects) {
+  const Scene scene = small_scene(GetParam());
+  const auto cameras = camera_paths(scene, 0xc0e1);
+  const auto lights = light_paths(scene, 0xc0e1);
+  std::vector<ConnectionPair> pairs;
+  std::size_t surface_light_ends = 0;
+  for (std::uint32_t p = 0; p < cameras.size(); ++p) {
+    const auto& light = lights[(p * 7) % lights.size()];  // not the pixel's own: more variety
+    for (std::uint32_t s = 1; s <= light.size(); ++s) {
+      for (std::uint32_t t = 2; t <= cameras[p].size(); ++t) {
+        pairs.push_back({std::span(light).first(s), std::span(cameras[p]).first(t)});
+        surface_light_ends += s >= 2 ? 1 : 0;
+      }
+    }
+  }
+  ASSERT_TRUE(all_camera_surface_ends(pairs));
+  ASSERT_GT(surface_light_ends, 100u);
+  std::size_t nonzero = 0;
+  for (const StrategyCounts counts :
+       {StrategyCounts{}, StrategyCounts{.next_event = 0.0},
+        StrategyCounts{.emitter_hit = 1.0, .next_event = 8.0, .connection = 8.0},
+        StrategyCounts{.connection = 0.0}}) {
+    std::vector<Rgb> values(pairs.size());
+    TraceCounters batch, reference;
+    connection_values(scene, counts, pairs, values, batch);
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      const Rgb want = connect(scene, pairs[i].light, pairs[i].camera, counts,
+                               {.visibility = false, .weighted = false}, reference);
+      ASSERT_TRUE(same_bits(values[i].r, want.r) && same_bits(values[i].g, want.g) &&
+                  same_bits(values[i].b, want.b))
+          << "pair " << i << " s " << pairs[i].light.size() << " t " << pairs[i].camera.size()
+          << ": " << values[i].r << " " << want.r;
+      if (!want.is_black()) ++nonzero;
+    }
+    EXPECT_EQ(batch.connections, reference.connections);
+    EXPECT_EQ(batch.skipped_zero, reference.skipped_zero);
+  }
+  EXPECT_GT(nonzero, 100u);  // the comparison saw values, not only zeros
+}
+
 // A row's requests through ConnectionQueue: emitter vertices the queue samples itself
 // (connect_emitter_sample, the points drawn in lanes when every request is one and the counts
 // have nothing else) against vertices sampled beforehand (connect), with the same streams:
 // the same values and counters to the bit, also mixed with other requests and under counts
 // with connections (where the sampled vertices are made one by one).
-TEST_P(NextEventBatchOn, QueuedEmitterSamplesAreSampledVertices) {
+TEST_P(ConnectionLanesOn, QueuedEmitterSamplesAreSampledVertices) {
   const Scene scene = small_scene(GetParam());
   const auto paths = camera_paths(scene, 0x7e59);
   std::size_t nonzero = 0, unoccluded_nonzero = 0;  // before and after the shadow rays
@@ -208,7 +263,7 @@ TEST(ConnectionQueueSum, SubtotalAddsItsGroupFirst) {
   EXPECT_GT(order_matters, 10u);  // the comparison could fail
 }
 
-TEST(NextEventBatch, AppliesOnlyToNextEventsUnderCountsWithNothingElse) {
+TEST(ConnectionLanes, TakesThePairsAndCountsItComputes) {
   EXPECT_TRUE(next_event_only({.emitter_hit = 1.0, .next_event = 1.0, .connection = 0.0}));
   EXPECT_FALSE(next_event_only({}));  // BDPT's: connections
   EXPECT_FALSE(next_event_only({.connection = 0.0, .light_tracing = 16384.0}));
@@ -223,9 +278,16 @@ TEST(NextEventBatch, AppliesOnlyToNextEventsUnderCountsWithNothingElse) {
   light[0].kind = VertexKind::kSurface;
   EXPECT_FALSE(
       all_next_events(std::vector<ConnectionPair>{{std::span(light).first(1), std::span(camera)}}));
+  // connection_values takes any s >= 1 with t >= 2.
+  EXPECT_TRUE(
+      all_camera_surface_ends(std::vector<ConnectionPair>{{std::span(light), std::span(camera)}}));
+  EXPECT_FALSE(all_camera_surface_ends(std::vector<ConnectionPair>{
+      {std::span(light), std::span(camera).first(1)}}));  // t = 1: the lens
+  EXPECT_FALSE(all_camera_surface_ends(std::vector<ConnectionPair>{
+      {std::span(light).first(0), std::span(camera)}}));  // s = 0: an emitter hit
 }
 
-INSTANTIATE_TEST_SUITE_P(BuiltIn, NextEventBatchOn, ::testing::ValuesIn(built_in_scene_names()),
+INSTANTIATE_TEST_SUITE_P(BuiltIn, ConnectionLanesOn, ::testing::ValuesIn(built_in_scene_names()),
                          scene_test_name);
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "integrands/scenes/next_event_batch.h"
+#include "integrands/scenes/connection_lanes.h"
 
 #include <algorithm>
 
@@ -11,16 +11,20 @@ namespace {
 
 constexpr std::size_t kChunk = 64;  // connections a pass of the lanes takes
 
-// A chunk's connections in structure-of-arrays form: x = x_0 (the emitter vertex), y = y_{t-1}.
+// A chunk's connections in structure-of-arrays form: x = x_{s-1} (the emitter vertex of a next
+// event), y = y_{t-1}.
 // A connection that connect() drops before its segment (a delta end) has all its inputs 0,
 // which makes its segment empty and so its value 0, as it must be.
 struct Chunk {
   std::size_t size = 0;
   // Gathered, one connection at a time.
-  double x_x[kChunk], x_y[kChunk], x_z[kChunk];     // x's position
-  double xn_x[kChunk], xn_y[kChunk], xn_z[kChunk];  // x's normal (0 at a point light)
-  double point_light[kChunk];                       // 1 or 0
-  double le_r[kChunk], le_g[kChunk], le_b[kChunk];  // x's radiance in front of it (or intensity)
+  double x_x[kChunk], x_y[kChunk], x_z[kChunk];  // x's position
+  // An emitter x's normal (0 at a point light); a surface x's turned to wo (bsdf_detail::facing).
+  double xn_x[kChunk], xn_y[kChunk], xn_z[kChunk];
+  double point_light[kChunk];  // 1 or 0
+  double x_front[kChunk];      // 1 unless x is a surface whose wo lies behind its facing normal
+  // x's radiance in front of it (or intensity); a Lambertian surface x's albedo / π.
+  double le_r[kChunk], le_g[kChunk], le_b[kChunk];
   double xb_r[kChunk], xb_g[kChunk], xb_b[kChunk];  // x's beta, 1 / p(x)
   double x_pdf[kChunk];                             // p(x), x's pdf_fwd
   double y_x[kChunk], y_y[kChunk], y_z[kChunk];     // y's position
@@ -37,9 +41,10 @@ struct Chunk {
   double pdf_y[kChunk];                          // of sampling -w at y given wo
 };
 
-// The segment, emission and geometry terms, and a Lambertian y's f and density, as connect()
-// computes them (segment_between, emitted_towards, abs_cos_at, bsdf_value), each lane's
-// arithmetic next_event_lane.h's, which NextEventValues' lanes share.
+// The segment, geometry terms, x's emission or Lambertian f (both "what x sends towards y, where
+// it sends it": emitted_towards' side test, or bsdf_value's on the normal turned to wo), and a
+// Lambertian y's f and density, as connect() computes them (segment_between, abs_cos_at,
+// bsdf_value), each lane's arithmetic next_event_lane.h's, which NextEventValues' lanes share.
 [[gnu::target_clones("avx512f", "avx2", "default")]] void segments_and_ends(Chunk& c) {
   for (std::size_t j = 0; j < c.size; ++j) {
     const next_event_lane::Segment s = next_event_lane::segment(
@@ -50,7 +55,9 @@ struct Chunk {
     c.w_z[j] = s.w.z;
     c.distance_squared[j] = s.distance_squared;
     c.inv_distance_squared[j] = s.inv_distance_squared;
-    const Rgb le = next_event_lane::emitted(s, {c.le_r[j], c.le_g[j], c.le_b[j]});
+    next_event_lane::Segment gated = s;  // a surface x scatters only when wo is in front too
+    gated.emits = gated.emits & (c.x_front[j] != 0.0);
+    const Rgb le = next_event_lane::emitted(gated, {c.le_r[j], c.le_g[j], c.le_b[j]});
     c.le_r[j] = le.r;
     c.le_g[j] = le.g;
     c.le_b[j] = le.b;
@@ -66,28 +73,45 @@ struct Chunk {
   }
 }
 
-// connect()'s value (next_event_lane::value) and the weight n_1 / (n_1 + n_0 ratio),
-// ratio = remap0(p_y |cos_x| / d²) / remap0(p(x)) as balance_weight forms it (0 at a point
-// light). Returns the connections whose value is 0 with a segment of nonzero length
-// (skipped_zero).
+// Lane j's value (next_event_lane::value) into red, green and blue[j]; whether it is 0 with a
+// segment of nonzero length (connect()'s skipped_zero).
+[[gnu::always_inline]] inline bool lane_value(const Chunk& c, std::size_t j, double* red,
+                                              double* green, double* blue) {
+  const next_event_lane::Value v =
+      next_event_lane::value({c.xb_r[j], c.xb_g[j], c.xb_b[j]}, {c.le_r[j], c.le_g[j], c.le_b[j]},
+                             {c.f_r[j], c.f_g[j], c.f_b[j]}, {c.yb_r[j], c.yb_g[j], c.yb_b[j]},
+                             c.geometry[j], c.distance_squared[j]);
+  red[j] = v.r;
+  green[j] = v.g;
+  blue[j] = v.b;
+  return v.skipped_zero;
+}
+
+// connect()'s value and the weight n_1 / (n_1 + n_0 ratio), ratio = remap0(p_y |cos_x| / d²) /
+// remap0(p(x)) as balance_weight forms it (0 at a point light). Returns the connections whose
+// value is 0 with a segment of nonzero length (skipped_zero).
 [[gnu::target_clones("avx512f", "avx2", "default")]] std::size_t values_and_weights(
     const Chunk& c, double next_event, double emitter_hit, double* red, double* green, double* blue,
     double* weights) {
   std::size_t skipped_zero = 0;
   for (std::size_t j = 0; j < c.size; ++j) {
-    const next_event_lane::Value v =
-        next_event_lane::value({c.xb_r[j], c.xb_g[j], c.xb_b[j]}, {c.le_r[j], c.le_g[j], c.le_b[j]},
-                               {c.f_r[j], c.f_g[j], c.f_b[j]}, {c.yb_r[j], c.yb_g[j], c.yb_b[j]},
-                               c.geometry[j], c.distance_squared[j]);
-    skipped_zero += static_cast<std::size_t>(v.skipped_zero);
-    red[j] = v.r;
-    green[j] = v.g;
-    blue[j] = v.b;
+    skipped_zero += static_cast<std::size_t>(lane_value(c, j, red, green, blue));
     const double light_end = c.pdf_y[j] * c.cos_x[j] * c.inv_distance_squared[j];
     const double ratio = lane_select(light_end != 0.0, light_end, 1.0) /
                          lane_select(c.x_pdf[j] != 0.0, c.x_pdf[j], 1.0);
     const double others = lane_select(c.point_light[j] != 0.0, 0.0, ratio * emitter_hit);
     weights[j] = next_event / (next_event + others);
+  }
+  return skipped_zero;
+}
+
+// connect()'s values alone (any strategy's weight is mis_weight's, after the shadow ray).
+[[gnu::target_clones("avx512f", "avx2", "default")]] std::size_t values(const Chunk& c, double* red,
+                                                                        double* green,
+                                                                        double* blue) {
+  std::size_t skipped_zero = 0;
+  for (std::size_t j = 0; j < c.size; ++j) {
+    skipped_zero += static_cast<std::size_t>(lane_value(c, j, red, green, blue));
   }
   return skipped_zero;
 }
@@ -124,6 +148,7 @@ void gather_emitter_vertex(const Scene& scene, const PathVertex& x, bool connect
   put(c.x_x, c.x_y, c.x_z, j, v.position);
   put(c.xn_x, c.xn_y, c.xn_z, j, v.normal);
   c.point_light[j] = v.point_light ? 1.0 : 0.0;
+  c.x_front[j] = 1.0;
   const Rgb le = !connects       ? Rgb{}
                  : x.point_light ? scene.description().point_lights[x.triangle].intensity
                                  : scene.triangle(x.triangle).emission;
@@ -142,6 +167,7 @@ void gather_emitter_point(const EmitterPoints& points, std::size_t i, bool conne
   c.xn_x[j] = on * points.normal_x[i], c.xn_y[j] = on * points.normal_y[i],
   c.xn_z[j] = on * points.normal_z[i];
   c.point_light[j] = on * points.point_light[i];
+  c.x_front[j] = 1.0;
   c.le_r[j] = on * points.red[i], c.le_g[j] = on * points.green[i], c.le_b[j] = on * points.blue[i];
   const double beta = connects ? 1.0 / points.pdf_area[i] : 0.0;
   c.xb_r[j] = beta, c.xb_g[j] = beta, c.xb_b[j] = beta;
@@ -165,28 +191,67 @@ bool gather_camera_end(const Scene& scene, const PathVertex& y, bool connects, C
   return !connects || m.kind == MaterialKind::kDiffuse;
 }
 
-// The gathered chunk's values and weights into values[0 .. c.size) and weights[0 .. c.size);
-// camera_end(j) is lane j's y, for the BSDFs that are not Lambertian (`connects[j]` lanes only).
-template <class CameraEnd>
-void finish(const Scene& scene, const StrategyCounts& counts, Chunk& c, bool all_lambertian,
-            const bool* connects, const CameraEnd& camera_end, Rgb* values, double* weights,
-            TraceCounters& counters) {
-  segments_and_ends(c);
-  if (!all_lambertian) {  // the other camera ends' f and density, one at a time
-    for (std::size_t j = 0; j < c.size; ++j) {
-      if (!connects[j]) continue;
-      const PathVertex& y = camera_end(j);
-      const Material& m = scene.material(y.triangle);
-      if (m.kind == MaterialKind::kDiffuse) continue;
-      const BsdfValue b =
-          bsdf_value(m, y.normal, y.to_previous, -Vec3{c.w_x[j], c.w_y[j], c.w_z[j]});
-      c.f_r[j] = b.f.r, c.f_g[j] = b.f.g, c.f_b[j] = b.f.b;
-      c.pdf_y[j] = b.pdf;
+// Lane j's x, the light end x_{s-1} of a connection with s >= 2 (every input 0 when the lane does
+// not connect): a surface vertex, scattering towards the camera end; whether its BSDF is
+// Lambertian (or the lane unconnected), which the lanes compute.
+bool gather_surface_light_end(const Scene& scene, const PathVertex& x, bool connects, Chunk& c,
+                              std::size_t j) {
+  const PathVertex& v = lane_vertex(x, connects);
+  put(c.x_x, c.x_y, c.x_z, j, v.position);
+  // bsdf_value's normal turned to wo: its sign is the side test's, and |cos| is the same.
+  const Vec3 facing = bsdf_detail::facing(v.normal, v.to_previous);
+  put(c.xn_x, c.xn_y, c.xn_z, j, facing);
+  c.point_light[j] = 0.0;
+  c.x_front[j] = dot(facing, v.to_previous) > 0.0 ? 1.0 : 0.0;
+  const Material& m = scene.material(v.triangle);
+  const Rgb fd = m.albedo * kInvPi;
+  c.le_r[j] = fd.r, c.le_g[j] = fd.g, c.le_b[j] = fd.b;
+  c.xb_r[j] = v.beta.r, c.xb_g[j] = v.beta.g, c.xb_b[j] = v.beta.b;
+  c.x_pdf[j] = v.pdf_fwd;
+  return !connects || m.kind == MaterialKind::kDiffuse;
+}
+
+// The BSDF terms the lanes leave to bsdf_value, one at a time (`connects[j]` lanes only): where
+// light_end(j) (x, null for an emitter point) is a surface that is not Lambertian, its f; where
+// camera_end(j) (y) is not, its f and density.
+template <class LightEnd, class CameraEnd>
+void other_bsdfs(const Scene& scene, Chunk& c, const bool* connects, const LightEnd& light_end,
+                 const CameraEnd& camera_end) {
+  for (std::size_t j = 0; j < c.size; ++j) {
+    if (!connects[j]) continue;
+    const Vec3 w{c.w_x[j], c.w_y[j], c.w_z[j]};
+    const PathVertex* x = light_end(j);
+    if (x != nullptr && x->kind == VertexKind::kSurface) {
+      const Material& m = scene.material(x->triangle);
+      if (m.kind != MaterialKind::kDiffuse) {
+        const Rgb f = bsdf_value(m, x->normal, x->to_previous, w).f;
+        c.le_r[j] = f.r, c.le_g[j] = f.g, c.le_b[j] = f.b;
+      }
     }
+    const PathVertex& y = camera_end(j);
+    const Material& m = scene.material(y.triangle);
+    if (m.kind == MaterialKind::kDiffuse) continue;
+    const BsdfValue b = bsdf_value(m, y.normal, y.to_previous, -w);
+    c.f_r[j] = b.f.r, c.f_g[j] = b.f.g, c.f_b[j] = b.f.b;
+    c.pdf_y[j] = b.pdf;
   }
+}
+
+// The gathered chunk's values into values[0 .. c.size) and, unless `weights` is null (the
+// weight is then mis_weight's), the next-event weights into weights[0 .. c.size); light_end(j)
+// and camera_end(j) are lane j's x and y, for the BSDFs that are not Lambertian (`all_lambertian`
+// false when some are).
+template <class LightEnd, class CameraEnd>
+void finish(const Scene& scene, const StrategyCounts& counts, Chunk& c, bool all_lambertian,
+            const bool* connects, const LightEnd& light_end, const CameraEnd& camera_end,
+            Rgb* values, double* weights, TraceCounters& counters) {
+  segments_and_ends(c);
+  if (!all_lambertian) other_bsdfs(scene, c, connects, light_end, camera_end);
   double red[kChunk], green[kChunk], blue[kChunk];
   counters.skipped_zero +=
-      values_and_weights(c, counts.next_event, counts.emitter_hit, red, green, blue, weights);
+      weights != nullptr
+          ? values_and_weights(c, counts.next_event, counts.emitter_hit, red, green, blue, weights)
+          : scene::values(c, red, green, blue);
   for (std::size_t j = 0; j < c.size; ++j) values[j] = {red[j], green[j], blue[j]};
 }
 
@@ -214,6 +279,7 @@ void next_event_values_and_weights(const Scene& scene, const StrategyCounts& cou
     }
     finish(
         scene, counts, c, all_lambertian, connects,
+        [&](std::size_t j) { return &pairs[first + j].light[0]; },
         [&](std::size_t j) -> const PathVertex& { return pairs[first + j].camera.back(); },
         values.data() + first, weights.data() + first, counters);
   }
@@ -241,8 +307,46 @@ void next_event_values_and_weights(const Scene& scene, const StrategyCounts& cou
   }
   finish(
       scene, counts, c, all_lambertian, connects,
+      [](std::size_t) -> const PathVertex* { return nullptr; },
       [&](std::size_t j) -> const PathVertex& { return *camera_ends[j]; }, values.data(),
       weights.data(), counters);
+}
+
+bool all_camera_surface_ends(std::span<const ConnectionPair> pairs) {
+  return std::all_of(pairs.begin(), pairs.end(), [](const ConnectionPair& p) {
+    return !p.light.empty() && p.camera.size() >= 2;
+  });
+}
+
+void connection_values(const Scene& scene, const StrategyCounts& counts,
+                       std::span<const ConnectionPair> pairs, std::span<Rgb> values,
+                       TraceCounters& counters) {
+  Chunk c;
+  bool connects[kChunk];
+  for (std::size_t first = 0; first < pairs.size(); first += kChunk) {
+    c.size = std::min(kChunk, pairs.size() - first);
+    bool all_lambertian = true;
+    for (std::size_t j = 0; j < c.size; ++j) {
+      const ConnectionPair& pair = pairs[first + j];
+      const PathVertex& x = pair.light.back();
+      const PathVertex& y = pair.camera.back();
+      const double count = counts.count(static_cast<std::uint32_t>(pair.light.size()),
+                                        static_cast<std::uint32_t>(pair.camera.size()));
+      connects[j] = count > 0.0 && !x.delta && !y.delta;
+      counters.connections += connects[j] ? 1 : 0;
+      if (x.kind == VertexKind::kEmitter) {
+        gather_emitter_vertex(scene, x, connects[j], c, j);
+      } else {
+        all_lambertian &= gather_surface_light_end(scene, x, connects[j], c, j);
+      }
+      all_lambertian &= gather_camera_end(scene, y, connects[j], c, j);
+    }
+    finish(
+        scene, counts, c, all_lambertian, connects,
+        [&](std::size_t j) { return &pairs[first + j].light.back(); },
+        [&](std::size_t j) -> const PathVertex& { return pairs[first + j].camera.back(); },
+        values.data() + first, nullptr, counters);
+  }
 }
 
 }  // namespace pcbench::scene
