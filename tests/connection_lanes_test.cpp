@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -162,6 +163,51 @@ TEST_P(ConnectionLanesOn, ConnectionValuesAreConnects) {
   EXPECT_GT(nonzero, 100u);  // the comparison saw values, not only zeros
 }
 
+// light_tracing_values, light tracing's values in lanes (every pool path's splats: BDPT's, lt's,
+// pcbpt's), against connect() with its pixel, one at a time: every prefix of a light subpath
+// from each pixel's stream joined to the camera, under counts with light tracing and without;
+// the same values, pixels and counters to the bit.
+TEST_P(ConnectionLanesOn, LightTracingValuesAreConnects) {
+  const Scene scene = small_scene(GetParam());
+  const auto lights = light_paths(scene, 0x1e75);
+  const PathVertex camera = camera_paths(scene, 0x1e75)[0][0];  // y_0, the camera's vertex
+  std::vector<ConnectionPair> pairs;
+  for (const auto& light : lights) {
+    for (std::uint32_t s = 1; s <= light.size(); ++s) {
+      pairs.push_back({std::span(light).first(s), std::span(&camera, 1)});
+    }
+  }
+  ASSERT_TRUE(all_light_tracing(pairs));
+  std::size_t landed = 0, nonzero = 0;
+  for (const StrategyCounts counts :
+       {StrategyCounts{.light_tracing = 144.0}, StrategyCounts{.light_tracing = 0.0}}) {
+    std::vector<Rgb> values(pairs.size());
+    std::vector<std::optional<PixelPosition>> pixels(pairs.size());
+    TraceCounters batch, reference;
+    light_tracing_values(scene, counts, pairs, values, pixels, batch);
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      std::optional<PixelPosition> want_pixel;
+      const Rgb want = connect(scene, pairs[i].light, pairs[i].camera, counts,
+                               {.visibility = false, .weighted = false}, reference, &want_pixel);
+      ASSERT_TRUE(same_bits(values[i].r, want.r) && same_bits(values[i].g, want.g) &&
+                  same_bits(values[i].b, want.b))
+          << "pair " << i << " s " << pairs[i].light.size() << ": " << values[i].r << " " << want.r;
+      ASSERT_EQ(pixels[i].has_value(), want_pixel.has_value()) << "pair " << i;
+      if (want_pixel) {
+        ASSERT_EQ(pixels[i]->x, want_pixel->x);
+        ASSERT_EQ(pixels[i]->y, want_pixel->y);
+        ASSERT_TRUE(same_bits(pixels[i]->cos_theta, want_pixel->cos_theta));
+        ++landed;
+      }
+      if (!want.is_black()) ++nonzero;
+    }
+    EXPECT_EQ(batch.connections, reference.connections);
+    EXPECT_EQ(batch.skipped_zero, reference.skipped_zero);
+  }
+  EXPECT_GT(landed, 50u);  // the comparison saw pixels and values, not only misses
+  EXPECT_GT(nonzero, 50u);
+}
+
 // A row's requests through ConnectionQueue: emitter vertices the queue samples itself
 // (connect_emitter_sample, the points drawn in lanes when every request is one and the counts
 // have nothing else) against vertices sampled beforehand (connect), with the same streams:
@@ -285,6 +331,11 @@ TEST(ConnectionLanes, TakesThePairsAndCountsItComputes) {
       {std::span(light), std::span(camera).first(1)}}));  // t = 1: the lens
   EXPECT_FALSE(all_camera_surface_ends(std::vector<ConnectionPair>{
       {std::span(light).first(0), std::span(camera)}}));  // s = 0: an emitter hit
+  // light_tracing_values takes s >= 1 with t = 1.
+  EXPECT_TRUE(all_light_tracing(
+      std::vector<ConnectionPair>{{std::span(light), std::span(camera).first(1)}}));
+  EXPECT_FALSE(
+      all_light_tracing(std::vector<ConnectionPair>{{std::span(light), std::span(camera)}}));
 }
 
 INSTANTIATE_TEST_SUITE_P(BuiltIn, ConnectionLanesOn, ::testing::ValuesIn(built_in_scene_names()),

@@ -22,15 +22,4 @@ Vec3 CameraModel::direction(double fx, double fy) const {
   return normalize(forward_ + x * right_ + y * up_);
 }
 
-std::optional<PixelPosition> CameraModel::project(const Vec3& direction) const {
-  const double cos_theta = dot(direction, forward_);
-  if (cos_theta <= 0.0) return std::nullopt;
-  // One division: the point on the image plane at distance 1 is direction / cos_theta.
-  const double to_plane = 1.0 / cos_theta;
-  const double fx = 0.5 * width_ + dot(direction, right_) * to_plane * film_per_plane_x_;
-  const double fy = 0.5 * height_ - dot(direction, up_) * to_plane * film_per_plane_y_;
-  if (!(fx >= 0.0 && fx < width_ && fy >= 0.0 && fy < height_)) return std::nullopt;
-  return PixelPosition{static_cast<std::uint32_t>(fx), static_cast<std::uint32_t>(fy), cos_theta};
-}
-
 }  // namespace pcbench::scene

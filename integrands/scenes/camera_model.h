@@ -32,7 +32,31 @@ class CameraModel {
   Vec3 direction(double fx, double fy) const;
 
   // The pixel a direction from the camera goes through, if any.
-  std::optional<PixelPosition> project(const Vec3& direction) const;
+  std::optional<PixelPosition> project(const Vec3& direction) const {
+    const FilmPoint p = film_point(direction);
+    if (!p.on_film) return std::nullopt;
+    return PixelPosition{static_cast<std::uint32_t>(p.fx), static_cast<std::uint32_t>(p.fy),
+                         p.cos_theta};
+  }
+
+  // project()'s arithmetic, branch-free for a loop meant to run in SIMD lanes (light tracing's
+  // connections, connection_lanes.cpp): where `direction` meets the film, in film units
+  // ([0, W) × [0, H) when on_film), and its cosine to the view axis. Off the film (or behind the
+  // camera) fx and fy mean nothing.
+  struct FilmPoint {
+    double fx, fy, cos_theta;
+    bool on_film;
+  };
+  [[gnu::always_inline]] FilmPoint film_point(const Vec3& direction) const {
+    const double cos_theta = dot(direction, forward_);
+    // One division: the point on the image plane at distance 1 is direction / cos_theta.
+    const double to_plane = 1.0 / cos_theta;
+    const double fx = 0.5 * width_ + dot(direction, right_) * to_plane * film_per_plane_x_;
+    const double fy = 0.5 * height_ - dot(direction, up_) * to_plane * film_per_plane_y_;
+    const bool on_film =
+        (cos_theta > 0.0) & (fx >= 0.0) & (fx < width_) & (fy >= 0.0) & (fy < height_);
+    return {fx, fy, cos_theta, on_film};
+  }
 
   // Cosine between a unit direction and the view axis.
   double cos_theta(const Vec3& direction) const { return dot(direction, forward_); }

@@ -39,6 +39,9 @@ struct Chunk {
   double cos_x[kChunk], geometry[kChunk];
   double f_r[kChunk], f_g[kChunk], f_b[kChunk];  // f_y(wo, -w)
   double pdf_y[kChunk];                          // of sampling -w at y given wo
+  // Light tracing's (lens_values): the value, where -w meets the film, and 1 where it lands.
+  double value_r[kChunk], value_g[kChunk], value_b[kChunk];
+  double film_x[kChunk], film_y[kChunk], film_cos[kChunk], lands[kChunk];
 };
 
 // The segment, geometry terms, x's emission or Lambertian f (both "what x sends towards y, where
@@ -112,6 +115,40 @@ struct Chunk {
   std::size_t skipped_zero = 0;
   for (std::size_t j = 0; j < c.size; ++j) {
     skipped_zero += static_cast<std::size_t>(lane_value(c, j, red, green, blue));
+  }
+  return skipped_zero;
+}
+
+// Light tracing's values (t = 1, y the camera): connect()'s (x.beta · f_x) · (|cos_x| / d² ·
+// p_lens), p_lens the pixel's density at the film point -w meets (0 off the film), into
+// c.value_*; c.lands is 1 where connect() would return a pixel (a segment of nonzero length whose
+// direction meets the film), c.film_* that pixel's film position and cosine. The results go to
+// the chunk, not to separate arrays: GCC gives up on vectorising a loop that stores through that
+// many pointers that might alias. Returns the connections that land with a value of 0
+// (skipped_zero).
+[[gnu::target_clones("avx512f", "avx2", "default")]] std::size_t lens_values(
+    Chunk& c, const CameraModel& camera) {
+  // A copy the stores below cannot alias, so that its members stay in registers.
+  const CameraModel lens = camera;
+  std::size_t skipped_zero = 0;
+  for (std::size_t j = 0; j < c.size; ++j) {
+    const CameraModel::FilmPoint p = lens.film_point(-Vec3{c.w_x[j], c.w_y[j], c.w_z[j]});
+    const double pdf = lane_select(p.on_film, lens.pixel_pdf(p.cos_theta), 0.0);
+    const double scale = c.cos_x[j] * c.inv_distance_squared[j] * pdf;
+    const double r = c.xb_r[j] * c.le_r[j] * scale;
+    const double g = c.xb_g[j] * c.le_g[j] * scale;
+    const double b = c.xb_b[j] * c.le_b[j] * scale;
+    const bool land = (c.distance_squared[j] != 0.0) & p.on_film;
+    const bool black = (r == 0.0) & (g == 0.0) & (b == 0.0);
+    const bool keep = land & !black;
+    skipped_zero += static_cast<std::size_t>(land & black);
+    c.value_r[j] = lane_select(keep, r, 0.0);
+    c.value_g[j] = lane_select(keep, g, 0.0);
+    c.value_b[j] = lane_select(keep, b, 0.0);
+    c.film_x[j] = lane_select(land, p.fx, 0.0);
+    c.film_y[j] = lane_select(land, p.fy, 0.0);
+    c.film_cos[j] = p.cos_theta;
+    c.lands[j] = lane_select(land, 1.0, 0.0);
   }
   return skipped_zero;
 }
@@ -211,9 +248,39 @@ bool gather_surface_light_end(const Scene& scene, const PathVertex& x, bool conn
   return !connects || m.kind == MaterialKind::kDiffuse;
 }
 
+// Lane j's y for light tracing, the camera's vertex y_0: its position alone (no BSDF; the
+// other members 0).
+void gather_lens(const PathVertex& y, bool connects, Chunk& c, std::size_t j) {
+  put(c.y_x, c.y_y, c.y_z, j, lane_vertex(y, connects).position);
+  put(c.yn_x, c.yn_y, c.yn_z, j, {});
+  put(c.yf_x, c.yf_y, c.yf_z, j, {});
+  c.wo_in_front[j] = 0.0;
+  c.yb_r[j] = c.yb_g[j] = c.yb_b[j] = 0.0;
+  c.fd_r[j] = c.fd_g[j] = c.fd_b[j] = 0.0;
+}
+
+// Lane j's x, the light end x_{s-1} of pair `pair`: an emitter vertex or a surface; whether the
+// lanes compute its f (an emitter, or a Lambertian surface, or an unconnected lane).
+bool gather_light_end(const Scene& scene, const PathVertex& x, bool connects, Chunk& c,
+                      std::size_t j) {
+  if (x.kind == VertexKind::kEmitter) {
+    gather_emitter_vertex(scene, x, connects, c, j);
+    return true;
+  }
+  return gather_surface_light_end(scene, x, connects, c, j);
+}
+
+// Whether pair i connects at all under `counts` (connect()'s first tests): its strategy counted,
+// neither end a delta vertex.
+bool pair_connects(const StrategyCounts& counts, const ConnectionPair& pair) {
+  const double count = counts.count(static_cast<std::uint32_t>(pair.light.size()),
+                                    static_cast<std::uint32_t>(pair.camera.size()));
+  return count > 0.0 && !pair.light.back().delta && !pair.camera.back().delta;
+}
+
 // The BSDF terms the lanes leave to bsdf_value, one at a time (`connects[j]` lanes only): where
 // light_end(j) (x, null for an emitter point) is a surface that is not Lambertian, its f; where
-// camera_end(j) (y) is not, its f and density.
+// camera_end(j) (y, null for the lens) is not, its f and density.
 template <class LightEnd, class CameraEnd>
 void other_bsdfs(const Scene& scene, Chunk& c, const bool* connects, const LightEnd& light_end,
                  const CameraEnd& camera_end) {
@@ -228,10 +295,11 @@ void other_bsdfs(const Scene& scene, Chunk& c, const bool* connects, const Light
         c.le_r[j] = f.r, c.le_g[j] = f.g, c.le_b[j] = f.b;
       }
     }
-    const PathVertex& y = camera_end(j);
-    const Material& m = scene.material(y.triangle);
+    const PathVertex* y = camera_end(j);
+    if (y == nullptr) continue;
+    const Material& m = scene.material(y->triangle);
     if (m.kind == MaterialKind::kDiffuse) continue;
-    const BsdfValue b = bsdf_value(m, y.normal, y.to_previous, -w);
+    const BsdfValue b = bsdf_value(m, y->normal, y->to_previous, -w);
     c.f_r[j] = b.f.r, c.f_g[j] = b.f.g, c.f_b[j] = b.f.b;
     c.pdf_y[j] = b.pdf;
   }
@@ -280,8 +348,8 @@ void next_event_values_and_weights(const Scene& scene, const StrategyCounts& cou
     finish(
         scene, counts, c, all_lambertian, connects,
         [&](std::size_t j) { return &pairs[first + j].light[0]; },
-        [&](std::size_t j) -> const PathVertex& { return pairs[first + j].camera.back(); },
-        values.data() + first, weights.data() + first, counters);
+        [&](std::size_t j) { return &pairs[first + j].camera.back(); }, values.data() + first,
+        weights.data() + first, counters);
   }
 }
 
@@ -308,8 +376,7 @@ void next_event_values_and_weights(const Scene& scene, const StrategyCounts& cou
   finish(
       scene, counts, c, all_lambertian, connects,
       [](std::size_t) -> const PathVertex* { return nullptr; },
-      [&](std::size_t j) -> const PathVertex& { return *camera_ends[j]; }, values.data(),
-      weights.data(), counters);
+      [&](std::size_t j) { return camera_ends[j]; }, values.data(), weights.data(), counters);
 }
 
 bool all_camera_surface_ends(std::span<const ConnectionPair> pairs) {
@@ -328,24 +395,57 @@ void connection_values(const Scene& scene, const StrategyCounts& counts,
     bool all_lambertian = true;
     for (std::size_t j = 0; j < c.size; ++j) {
       const ConnectionPair& pair = pairs[first + j];
-      const PathVertex& x = pair.light.back();
-      const PathVertex& y = pair.camera.back();
-      const double count = counts.count(static_cast<std::uint32_t>(pair.light.size()),
-                                        static_cast<std::uint32_t>(pair.camera.size()));
-      connects[j] = count > 0.0 && !x.delta && !y.delta;
+      connects[j] = pair_connects(counts, pair);
       counters.connections += connects[j] ? 1 : 0;
-      if (x.kind == VertexKind::kEmitter) {
-        gather_emitter_vertex(scene, x, connects[j], c, j);
-      } else {
-        all_lambertian &= gather_surface_light_end(scene, x, connects[j], c, j);
-      }
-      all_lambertian &= gather_camera_end(scene, y, connects[j], c, j);
+      all_lambertian &= gather_light_end(scene, pair.light.back(), connects[j], c, j);
+      all_lambertian &= gather_camera_end(scene, pair.camera.back(), connects[j], c, j);
     }
     finish(
         scene, counts, c, all_lambertian, connects,
         [&](std::size_t j) { return &pairs[first + j].light.back(); },
-        [&](std::size_t j) -> const PathVertex& { return pairs[first + j].camera.back(); },
-        values.data() + first, nullptr, counters);
+        [&](std::size_t j) { return &pairs[first + j].camera.back(); }, values.data() + first,
+        nullptr, counters);
+  }
+}
+
+bool all_light_tracing(std::span<const ConnectionPair> pairs) {
+  return std::all_of(pairs.begin(), pairs.end(), [](const ConnectionPair& p) {
+    return !p.light.empty() && p.camera.size() == 1;
+  });
+}
+
+void light_tracing_values(const Scene& scene, const StrategyCounts& counts,
+                          std::span<const ConnectionPair> pairs, std::span<Rgb> values,
+                          std::span<std::optional<PixelPosition>> pixels, TraceCounters& counters) {
+  Chunk c;
+  bool connects[kChunk];
+  for (std::size_t first = 0; first < pairs.size(); first += kChunk) {
+    c.size = std::min(kChunk, pairs.size() - first);
+    bool all_lambertian = true;
+    for (std::size_t j = 0; j < c.size; ++j) {
+      const ConnectionPair& pair = pairs[first + j];
+      connects[j] = pair_connects(counts, pair);
+      counters.connections += connects[j] ? 1 : 0;
+      all_lambertian &= gather_light_end(scene, pair.light.back(), connects[j], c, j);
+      gather_lens(pair.camera.back(), connects[j], c, j);
+    }
+    segments_and_ends(c);
+    if (!all_lambertian) {
+      other_bsdfs(
+          scene, c, connects, [&](std::size_t j) { return &pairs[first + j].light.back(); },
+          [](std::size_t) -> const PathVertex* { return nullptr; });
+    }
+    counters.skipped_zero += lens_values(c, scene.camera());
+    for (std::size_t j = 0; j < c.size; ++j) {
+      values[first + j] = {c.value_r[j], c.value_g[j], c.value_b[j]};
+      // connect() sets its pixel once it has a segment: where its direction meets the film.
+      if (!connects[j] || c.distance_squared[j] == 0.0) continue;
+      pixels[first + j] =
+          c.lands[j] != 0.0
+              ? std::optional(PixelPosition{static_cast<std::uint32_t>(c.film_x[j]),
+                                            static_cast<std::uint32_t>(c.film_y[j]), c.film_cos[j]})
+              : std::nullopt;
+    }
   }
 }
 

@@ -64,4 +64,15 @@ void connection_values(const Scene& scene, const StrategyCounts& counts,
                        std::span<const ConnectionPair> pairs, std::span<Rgb> values,
                        TraceCounters& counters);
 
+// Whether every pair is light tracing's: s >= 1 joined to the camera (t = 1).
+bool all_light_tracing(std::span<const ConnectionPair> pairs);
+
+// For all_light_tracing pairs under any counts: values[i], connect()'s unweighted, unoccluded
+// value of pairs[i], and pixels[i] where connect() sets its `pixel` (left as it was where
+// connect() returns first), counting the work as connect() does: the light ends' terms as
+// connection_values computes them, the camera's projection and density in the same lanes.
+void light_tracing_values(const Scene& scene, const StrategyCounts& counts,
+                          std::span<const ConnectionPair> pairs, std::span<Rgb> values,
+                          std::span<std::optional<PixelPosition>> pixels, TraceCounters& counters);
+
 }  // namespace pcbench::scene

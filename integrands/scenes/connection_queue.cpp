@@ -137,15 +137,20 @@ void ConnectionBatch::connect_all(const Scene& scene, const StrategyCounts& coun
                                   std::span<std::optional<PixelPosition>> pixels) {
   // The unweighted, unoccluded values in lanes (connection_lanes.h): next-event connections
   // under counts with nothing else (pt) value and weight together; a batch of other
-  // connections with t >= 2 (a row's) the values, mis_weight() for those not blocked. Light
-  // tracing's (t = 1, the lens end) one at a time through connect().
+  // connections with t >= 2 (a row's) or of light tracing's (t = 1, a chunk of pool paths' splats)
+  // the values, mis_weight() for those not blocked. A batch that mixes them (none does) one at a
+  // time through connect().
   const bool next_events = pixels.empty() && next_event_only(counts) && all_next_events(pairs);
-  const bool in_lanes = next_events || (pixels.empty() && all_camera_surface_ends(pairs));
+  const bool camera_side = pixels.empty() && all_camera_surface_ends(pairs);
+  const bool lens = !pixels.empty() && all_light_tracing(pairs);
+  const bool in_lanes = next_events || camera_side || lens;
   if (next_events) {
     weights_.resize(pairs.size());
     next_event_values_and_weights(scene, counts, pairs, values, weights_, counters);
-  } else if (in_lanes) {
+  } else if (camera_side) {
     connection_values(scene, counts, pairs, values, counters);
+  } else if (lens) {
+    light_tracing_values(scene, counts, pairs, values, pixels, counters);
   }
   trace_and_weigh_each(
       scene,
