@@ -259,7 +259,7 @@ void gather_lens(const PathVertex& y, bool connects, Chunk& c, std::size_t j) {
   c.fd_r[j] = c.fd_g[j] = c.fd_b[j] = 0.0;
 }
 
-// Lane j's x, the light end x_{s-1} of pair `pair`: an emitter vertex or a surface; whether the
+// Lane j's x, a connection's light end x_{s-1}: an emitter vertex or a surface; whether the
 // lanes compute its f (an emitter, or a Lambertian surface, or an unconnected lane).
 bool gather_light_end(const Scene& scene, const PathVertex& x, bool connects, Chunk& c,
                       std::size_t j) {
@@ -270,12 +270,36 @@ bool gather_light_end(const Scene& scene, const PathVertex& x, bool connects, Ch
   return gather_surface_light_end(scene, x, connects, c, j);
 }
 
-// Whether pair i connects at all under `counts` (connect()'s first tests): its strategy counted,
+// Whether a pair connects at all under `counts` (connect()'s first tests): its strategy counted,
 // neither end a delta vertex.
 bool pair_connects(const StrategyCounts& counts, const ConnectionPair& pair) {
   const double count = counts.count(static_cast<std::uint32_t>(pair.light.size()),
                                     static_cast<std::uint32_t>(pair.camera.size()));
   return count > 0.0 && !pair.light.back().delta && !pair.camera.back().delta;
+}
+
+// `pairs` chunk by chunk: each pair's x into the chunk's lanes by gather_light_end and its y
+// by gather_y(y, connects, c, lane), the connections counted as connect() counts them
+// (connects[j]: whether lane j connects at all); then done(c, connects, first, all_lambertian),
+// the chunk holding pairs[first ..), all_lambertian whether the lanes compute every BSDF in it.
+template <class GatherY, class Done>
+void for_each_chunk(const Scene& scene, const StrategyCounts& counts,
+                    std::span<const ConnectionPair> pairs, TraceCounters& counters,
+                    const GatherY& gather_y, const Done& done) {
+  Chunk c;
+  bool connects[kChunk];
+  for (std::size_t first = 0; first < pairs.size(); first += kChunk) {
+    c.size = std::min(kChunk, pairs.size() - first);
+    bool all_lambertian = true;
+    for (std::size_t j = 0; j < c.size; ++j) {
+      const ConnectionPair& pair = pairs[first + j];
+      connects[j] = pair_connects(counts, pair);
+      counters.connections += connects[j] ? 1 : 0;
+      all_lambertian &= gather_light_end(scene, pair.light.back(), connects[j], c, j);
+      all_lambertian &= gather_y(pair.camera.back(), connects[j], c, j);
+    }
+    done(c, connects, first, all_lambertian);
+  }
 }
 
 // The BSDF terms the lanes leave to bsdf_value, one at a time (`connects[j]` lanes only): where
@@ -323,6 +347,25 @@ void finish(const Scene& scene, const StrategyCounts& counts, Chunk& c, bool all
   for (std::size_t j = 0; j < c.size; ++j) values[j] = {red[j], green[j], blue[j]};
 }
 
+// The values of pairs with t >= 2 (next_event_values_and_weights, connection_values) and, unless
+// `weights` is null, the next events' weights.
+void values_of_pairs(const Scene& scene, const StrategyCounts& counts,
+                     std::span<const ConnectionPair> pairs, std::span<Rgb> values, double* weights,
+                     TraceCounters& counters) {
+  for_each_chunk(
+      scene, counts, pairs, counters,
+      [&](const PathVertex& y, bool on, Chunk& c, std::size_t j) {
+        return gather_camera_end(scene, y, on, c, j);
+      },
+      [&](Chunk& c, const bool* connects, std::size_t first, bool all_lambertian) {
+        finish(
+            scene, counts, c, all_lambertian, connects,
+            [&](std::size_t j) { return &pairs[first + j].light.back(); },
+            [&](std::size_t j) { return &pairs[first + j].camera.back(); }, values.data() + first,
+            weights == nullptr ? nullptr : weights + first, counters);
+      });
+}
+
 }  // namespace
 
 void next_event_values_and_weights(const Scene& scene, const StrategyCounts& counts,
@@ -332,25 +375,7 @@ void next_event_values_and_weights(const Scene& scene, const StrategyCounts& cou
     std::fill(values.begin(), values.end(), Rgb{});
     return;
   }
-  Chunk c;
-  bool connects[kChunk];
-  for (std::size_t first = 0; first < pairs.size(); first += kChunk) {
-    c.size = std::min(kChunk, pairs.size() - first);
-    bool all_lambertian = true;
-    for (std::size_t j = 0; j < c.size; ++j) {
-      const PathVertex& x = pairs[first + j].light[0];
-      const PathVertex& y = pairs[first + j].camera.back();
-      connects[j] = !x.delta && !y.delta;
-      counters.connections += connects[j] ? 1 : 0;
-      gather_emitter_vertex(scene, x, connects[j], c, j);
-      all_lambertian &= gather_camera_end(scene, y, connects[j], c, j);
-    }
-    finish(
-        scene, counts, c, all_lambertian, connects,
-        [&](std::size_t j) { return &pairs[first + j].light[0]; },
-        [&](std::size_t j) { return &pairs[first + j].camera.back(); }, values.data() + first,
-        weights.data() + first, counters);
-  }
+  values_of_pairs(scene, counts, pairs, values, weights.data(), counters);
 }
 
 void next_event_values_and_weights(const Scene& scene, const StrategyCounts& counts,
@@ -388,24 +413,7 @@ bool all_camera_surface_ends(std::span<const ConnectionPair> pairs) {
 void connection_values(const Scene& scene, const StrategyCounts& counts,
                        std::span<const ConnectionPair> pairs, std::span<Rgb> values,
                        TraceCounters& counters) {
-  Chunk c;
-  bool connects[kChunk];
-  for (std::size_t first = 0; first < pairs.size(); first += kChunk) {
-    c.size = std::min(kChunk, pairs.size() - first);
-    bool all_lambertian = true;
-    for (std::size_t j = 0; j < c.size; ++j) {
-      const ConnectionPair& pair = pairs[first + j];
-      connects[j] = pair_connects(counts, pair);
-      counters.connections += connects[j] ? 1 : 0;
-      all_lambertian &= gather_light_end(scene, pair.light.back(), connects[j], c, j);
-      all_lambertian &= gather_camera_end(scene, pair.camera.back(), connects[j], c, j);
-    }
-    finish(
-        scene, counts, c, all_lambertian, connects,
-        [&](std::size_t j) { return &pairs[first + j].light.back(); },
-        [&](std::size_t j) { return &pairs[first + j].camera.back(); }, values.data() + first,
-        nullptr, counters);
-  }
+  values_of_pairs(scene, counts, pairs, values, nullptr, counters);
 }
 
 bool all_light_tracing(std::span<const ConnectionPair> pairs) {
@@ -417,36 +425,31 @@ bool all_light_tracing(std::span<const ConnectionPair> pairs) {
 void light_tracing_values(const Scene& scene, const StrategyCounts& counts,
                           std::span<const ConnectionPair> pairs, std::span<Rgb> values,
                           std::span<std::optional<PixelPosition>> pixels, TraceCounters& counters) {
-  Chunk c;
-  bool connects[kChunk];
-  for (std::size_t first = 0; first < pairs.size(); first += kChunk) {
-    c.size = std::min(kChunk, pairs.size() - first);
-    bool all_lambertian = true;
-    for (std::size_t j = 0; j < c.size; ++j) {
-      const ConnectionPair& pair = pairs[first + j];
-      connects[j] = pair_connects(counts, pair);
-      counters.connections += connects[j] ? 1 : 0;
-      all_lambertian &= gather_light_end(scene, pair.light.back(), connects[j], c, j);
-      gather_lens(pair.camera.back(), connects[j], c, j);
-    }
-    segments_and_ends(c);
-    if (!all_lambertian) {
-      other_bsdfs(
-          scene, c, connects, [&](std::size_t j) { return &pairs[first + j].light.back(); },
-          [](std::size_t) -> const PathVertex* { return nullptr; });
-    }
-    counters.skipped_zero += lens_values(c, scene.camera());
-    for (std::size_t j = 0; j < c.size; ++j) {
-      values[first + j] = {c.value_r[j], c.value_g[j], c.value_b[j]};
-      // connect() sets its pixel once it has a segment: where its direction meets the film.
-      if (!connects[j] || c.distance_squared[j] == 0.0) continue;
-      pixels[first + j] =
-          c.lands[j] != 0.0
-              ? std::optional(PixelPosition{static_cast<std::uint32_t>(c.film_x[j]),
-                                            static_cast<std::uint32_t>(c.film_y[j]), c.film_cos[j]})
-              : std::nullopt;
-    }
-  }
+  for_each_chunk(
+      scene, counts, pairs, counters,
+      [](const PathVertex& y, bool on, Chunk& c, std::size_t j) {
+        gather_lens(y, on, c, j);
+        return true;
+      },
+      [&](Chunk& c, const bool* connects, std::size_t first, bool all_lambertian) {
+        segments_and_ends(c);
+        if (!all_lambertian) {
+          other_bsdfs(
+              scene, c, connects, [&](std::size_t j) { return &pairs[first + j].light.back(); },
+              [](std::size_t) -> const PathVertex* { return nullptr; });
+        }
+        counters.skipped_zero += lens_values(c, scene.camera());
+        for (std::size_t j = 0; j < c.size; ++j) {
+          values[first + j] = {c.value_r[j], c.value_g[j], c.value_b[j]};
+          // connect() sets its pixel once it has a segment: where its direction meets the film.
+          if (!connects[j] || c.distance_squared[j] == 0.0) continue;
+          pixels[first + j] = c.lands[j] != 0.0
+                                  ? std::optional(PixelPosition{
+                                        static_cast<std::uint32_t>(c.film_x[j]),
+                                        static_cast<std::uint32_t>(c.film_y[j]), c.film_cos[j]})
+                                  : std::nullopt;
+        }
+      });
 }
 
 }  // namespace pcbench::scene
