@@ -11,9 +11,9 @@
 // which is what mis_weight's loops leave when every other term is zero (1 at a point light,
 // which no path hits).
 //
-// Any other connection with s >= 1 and t >= 2 (BDPT's, the light vertex cache's, pcbpt's
-// draws), its value alone: its weight needs the whole path and stays mis_weight()'s, after the
-// shadow ray, for the connections that are not blocked.
+// Any other connection with s >= 1 (BDPT's, the light vertex cache's, pcbpt's draws, and light
+// tracing's splats, t = 1), its value alone: its weight needs the whole path and stays
+// mis_weight()'s, after the shadow ray, for the connections that are not blocked.
 //
 // The segments, emission and geometry terms, Lambertian ends' BSDFs and the next events' weights
 // run in lanes across the connections (any other BSDF through bsdf_value, one at a time), in
