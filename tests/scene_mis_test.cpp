@@ -4,7 +4,8 @@
 //     over the strategies of each scene estimator's StrategyCounts (every estimator of the
 //     registry and of the examples that renders scenes, at its defaults and at the parameters its
 //     entry's SceneTests declare; p: the product of the vertices' area densities as that
-//     strategy samples them), so the weights sum to 1;
+//     strategy samples them), so the weights sum to 1, whether it loops over the subpaths or
+//     takes the sums their walks stored (store_camera_weight_sums, store_light_weight_sums);
 //   - connect()'s unweighted value is the path's contribution f(z) divided by p_s;
 //   - the walks' bookkeeping (pdf_fwd, pdf_rev, beta) matches the path.
 // The densities and contributions here are computed from the vertex positions, apart from
@@ -339,11 +340,12 @@ std::vector<NamedEstimator> every_estimator() {
 // MIS weights
 
 // For each path and method: mis_weight of every included strategy (count > 0) is the balance
-// heuristic over the included strategies, and they sum to 1.
+// heuristic over the included strategies, and they sum to 1; from the subpaths' stored sums
+// (store_camera_weight_sums) too, for the methods whose counts need no model.
 void check_weights(const Scene& scene, const std::vector<FullPath>& paths) {
   const std::vector<NamedEstimator> estimators = every_estimator();
   EXPECT_GE(estimators.size(), 10u);  // pt, lt, plain, vc-all, lvc, pcbpt, 3 controls, example
-  std::size_t checked = 0;
+  std::size_t checked = 0, from_stored_sums = 0;
   for (std::size_t n = 0; n < paths.size(); ++n) {
     const FullPath& p = paths[n];
     const PathFacts f = facts(scene, p);
@@ -364,16 +366,23 @@ void check_weights(const Scene& scene, const std::vector<FullPath>& paths) {
         const double c =
             counts.count(static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(k + 1 - s));
         if (c <= 0.0 || !possible(p, s)) continue;  // weight 0: connect() skips it
-        const Split parts = split(scene, p, f, s);
+        Split parts = split(scene, p, f, s);
         const double w = mis_weight(scene, parts.light, parts.camera, counts);
         EXPECT_NEAR(w, c * strategy_pdf(f, s) / total, 1e-9) << "s " << s;
         sum += w;
+        // The same weight from the subpaths' stored sums, as the renderer's walks leave them.
+        store_camera_weight_sums(parts.camera, counts);
+        store_light_weight_sums(parts.light, counts);
+        const double from_sums = mis_weight(scene, parts.light, parts.camera, counts);
+        EXPECT_NEAR(from_sums, c * strategy_pdf(f, s) / total, 1e-9) << "s " << s << ", sums";
+        from_stored_sums += parts.camera.size() >= 3 && !std::isnan(parts.camera[0].weight_sum);
       }
       EXPECT_NEAR(sum, 1.0, 1e-9);
       ++checked;
     }
   }
-  EXPECT_GT(checked, paths.size());  // several methods per path
+  EXPECT_GT(checked, paths.size());           // several methods per path
+  EXPECT_GT(from_stored_sums, paths.size());  // the stored sums were used, not the loop
 }
 
 // A count model (connection.h) that depends on both things it is given, the light side's

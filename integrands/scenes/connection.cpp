@@ -171,10 +171,25 @@ void light_side_importances(const Scene& scene, const LightOrderPath& z,
   }
 }
 
+// Moving the join of a path across a vertex, from just after it to just before it, multiplies
+// the strategy's density by this (a zero density marks a delta step, remap0).
+double join_move_ratio(double pdf_rev, double pdf_fwd) {
+  return remap0(pdf_rev) / remap0(pdf_fwd);
+}
+
+// Under counts without a model: the count of the strategy with `camera_vertices` camera
+// vertices, `light_vertices` light ones (StrategyCounts::count).
+double constant_count(const StrategyCounts& counts, std::size_t light_vertices,
+                      std::size_t camera_vertices) {
+  return counts.count(static_cast<std::uint32_t>(light_vertices),
+                      static_cast<std::uint32_t>(camera_vertices));
+}
+
 // The balance heuristic n_own p_own / Σ n p over the strategies that make the same path, as
 // 1 / (1 + Σ_others (n / n_own) p / p_own): moving the join one vertex along the path multiplies
-// p by that vertex's reverse over its forward density (Veach's thesis, ch. 10).
-double balance_weight(const Scene& scene, std::span<const PathVertex> light,
+// p by that vertex's reverse over its forward density (Veach's thesis, ch. 10). One loop over both
+// subpaths; balance_weight takes the stored sums instead where it can.
+double weight_by_loop(const Scene& scene, std::span<const PathVertex> light,
                       std::span<const PathVertex> camera, const JoinDensities& join,
                       const StrategyCounts& counts) {
   const std::size_t s = light.size(), t = camera.size();
@@ -206,13 +221,13 @@ double balance_weight(const Scene& scene, std::span<const PathVertex> light,
   double others = 0.0;  // Σ n p / p_own over the other strategies, times n_own
   double ratio = 1.0;
   for (std::size_t i = t - 1; i > 0; --i) {  // moving the join towards the camera: (k - i, i)
-    ratio *= remap0(camera_rev(i)) / remap0(camera[i].pdf_fwd);
+    ratio *= join_move_ratio(camera_rev(i), camera[i].pdf_fwd);
     if (!camera_delta(i) && !camera[i - 1].delta) others += ratio * count(k - i);
   }
   ratio = 1.0;
   const bool point_light = s > 0 && light[0].point_light;
   for (std::size_t i = s; i-- > 0;) {  // moving the join towards the emitter: (i, k - i)
-    ratio *= remap0(light_rev(i)) / remap0(light[i].pdf_fwd);
+    ratio *= join_move_ratio(light_rev(i), light[i].pdf_fwd);
     const bool before_delta = i > 0 ? light[i - 1].delta : point_light;
     if (!light_delta(i) && !before_delta) others += ratio * count(i);
   }
@@ -220,7 +235,89 @@ double balance_weight(const Scene& scene, std::span<const PathVertex> light,
   return own / (own + others);  // = 1 / (1 + others / own), with one division
 }
 
+// weight_by_loop's sums, nested from the join outwards: its camera-side terms are
+//   q_{t-1} (n_{t-1} + q_{t-2} (n_{t-2} + S_{t-3})),   q_i = rev_i / fwd_i, n_i the count of the
+// strategy with i camera vertices (0 where a delta vertex rules it out), and S_{t-3} the sum
+// over i <= t-3, which involves only densities the camera walk recorded: y_{t-3}'s weight_sum.
+// The light side likewise. The join's own densities enter only the two outer levels.
+double weight_from_sums(std::span<const PathVertex> light, std::span<const PathVertex> camera,
+                        const JoinDensities& join, const StrategyCounts& counts) {
+  const std::size_t s = light.size(), t = camera.size(), k = s + t;
+  double others = 0.0;
+  if (t >= 2) {  // the strategies with i = t-1, t-2, ... camera vertices
+    const double end = camera[t - 2].delta ? 0.0 : constant_count(counts, k - (t - 1), t - 1);
+    double before = 0.0;
+    if (t >= 3) {
+      const bool possible = !camera[t - 2].delta && !camera[t - 3].delta;
+      before = join_move_ratio(join.camera_before, camera[t - 2].pdf_fwd) *
+               ((possible ? constant_count(counts, k - (t - 2), t - 2) : 0.0) +
+                camera[t - 3].weight_sum);
+    }
+    others += join_move_ratio(join.camera_end, camera[t - 1].pdf_fwd) * (end + before);
+  }
+  if (s >= 1) {  // the strategies with i = s-1, s-2, ... light vertices
+    auto after_delta = [&](std::size_t i) {
+      return i > 0 ? light[i - 1].delta : light[0].point_light;
+    };
+    const double end = after_delta(s - 1) ? 0.0 : constant_count(counts, s - 1, k - (s - 1));
+    double before = 0.0;
+    if (s >= 2) {
+      const bool possible = !light[s - 2].delta && !after_delta(s - 2);
+      before = join_move_ratio(join.light_before, light[s - 2].pdf_fwd) *
+               ((possible ? constant_count(counts, s - 2, k - (s - 2)) : 0.0) +
+                (s >= 3 ? light[s - 3].weight_sum : 0.0));
+    }
+    others += join_move_ratio(join.light_end, light[s - 1].pdf_fwd) * (end + before);
+  }
+  const double own = constant_count(counts, s, t);
+  return own / (own + others);
+}
+
+double balance_weight(const Scene& scene, std::span<const PathVertex> light,
+                      std::span<const PathVertex> camera, const JoinDensities& join,
+                      const StrategyCounts& counts) {
+  const std::size_t s = light.size(), t = camera.size();
+  const bool sums_stored = counts.model == nullptr &&
+                           (t < 3 || !std::isnan(camera[t - 3].weight_sum)) &&
+                           (s < 3 || !std::isnan(light[s - 3].weight_sum));
+  return sums_stored ? weight_from_sums(light, camera, join, counts)
+                     : weight_by_loop(scene, light, camera, join, counts);
+}
+
 }  // namespace
+
+void store_camera_weight_sums(std::span<PathVertex> camera, const StrategyCounts& counts) {
+  if (counts.model != nullptr || camera.empty()) return;
+  // y_0 is never a join's far side (t >= 1); y_m for 1 <= m <= n-3 has its final pdf_rev (the
+  // walk sets y_m's when it scatters at y_{m+1}), and a weight reads y_{t-3}'s for t <= n.
+  camera[0].weight_sum = 0.0;
+  double sum = 0.0;
+  for (std::size_t m = 1; m + 2 < camera.size(); ++m) {
+    const bool possible = !camera[m].delta && !camera[m - 1].delta;
+    // The strategy with m camera vertices has at least three light vertices here: its count
+    // is light tracing's for m = 1, else a connection's.
+    const double n = possible ? (m == 1 ? counts.light_tracing : counts.connection) : 0.0;
+    sum = join_move_ratio(camera[m].pdf_rev, camera[m].pdf_fwd) * (n + sum);
+    camera[m].weight_sum = sum;
+  }
+}
+
+void store_light_weight_sums(std::span<PathVertex> light, const StrategyCounts& counts) {
+  if (counts.model != nullptr) return;
+  double sum = 0.0;
+  for (std::size_t m = 0; m + 2 < light.size(); ++m) {
+    const bool after_delta = m > 0 ? light[m - 1].delta : light[0].point_light;
+    const bool possible = !light[m].delta && !after_delta;
+    // The strategy with m light vertices has at least two camera vertices (an emitter hit for
+    // m = 0, a next event for m = 1).
+    const double n = possible ? (m == 0   ? counts.emitter_hit
+                                 : m == 1 ? counts.next_event
+                                          : counts.connection)
+                              : 0.0;
+    sum = join_move_ratio(light[m].pdf_rev, light[m].pdf_fwd) * (n + sum);
+    light[m].weight_sum = sum;
+  }
+}
 
 double mis_weight(const Scene& scene, std::span<const PathVertex> light,
                   std::span<const PathVertex> camera, const StrategyCounts& counts) {

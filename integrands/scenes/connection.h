@@ -56,6 +56,15 @@ struct StrategyCounts {
   }
 };
 
+// The weight's sums over a subpath's own vertices (PathVertex::weight_sum), stored once the walk
+// that made it is done, so that each of its connections' weights costs the same whatever the
+// path's length instead of a loop over both subpaths (the recursive form of Georgiev et al.,
+// "Implementing Vertex Connection and Merging", 2012). `counts` must be the counts every later
+// weight of the subpath uses (the renderer's); under a count model (counts per path) nothing is
+// stored and the weights loop, as they do for a subpath whose sums were never stored.
+void store_camera_weight_sums(std::span<PathVertex> camera, const StrategyCounts& counts);
+void store_light_weight_sums(std::span<PathVertex> light, const StrategyCounts& counts);
+
 // Balance-heuristic weight of strategy (s, t) for the path light[0..s) + camera[0..t) reversed.
 double mis_weight(const Scene& scene, std::span<const PathVertex> light,
                   std::span<const PathVertex> camera, const StrategyCounts& counts);

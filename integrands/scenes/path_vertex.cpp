@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "integrands/scenes/bsdf.h"
 #include "integrands/scenes/turn_trig.h"
@@ -47,9 +48,10 @@ bool walk_arrive(const Scene& scene, const Hit& hit, std::vector<PathVertex>& pa
   // Every member given, so nothing is zeroed first (a local vertex zeroed with rep stos and
   // copied in had stalled). Braces, not emplace_back's parentheses: clang 15 (Debian 12's, the
   // asan build) has no parenthesised aggregate initialisation.
-  path.emplace_back(PathVertex{VertexKind::kSurface, previous.position + hit.distance * direction,
-                               normal, -direction, hit.triangle, walk.beta, pdf_fwd, 0.0,
-                               is_delta(scene.material(hit.triangle)), false});
+  path.emplace_back(PathVertex{VertexKind::kSurface, is_delta(scene.material(hit.triangle)), false,
+                               hit.triangle, previous.position + hit.distance * direction, normal,
+                               -direction, walk.beta, pdf_fwd, 0.0,
+                               std::numeric_limits<double>::quiet_NaN()});
   return path.size() != walk.max_vertices;
 }
 
@@ -118,15 +120,16 @@ PathVertex sample_emitter_vertex(const Scene& scene, RandomStream& rng) {
 PathVertex emitter_vertex(const EmitterPoint& e) {
   // Every member given: a default-built vertex was zeroed first (rep stos), then filled.
   return {.kind = VertexKind::kEmitter,
+          .delta = false,
+          .point_light = e.point_light,
+          .triangle = e.index,
           .position = e.position,
           .normal = e.normal,
           .to_previous = {},
-          .triangle = e.index,
           .beta = Rgb{1.0, 1.0, 1.0} / e.pdf_area,
           .pdf_fwd = e.pdf_area,
           .pdf_rev = 0.0,
-          .delta = false,
-          .point_light = e.point_light};
+          .weight_sum = std::numeric_limits<double>::quiet_NaN()};
 }
 
 EmitterPoint emitter_point(const Scene& scene, const PathVertex& v) {

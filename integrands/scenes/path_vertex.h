@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -19,18 +20,25 @@ namespace pcbench::scene {
 
 enum class VertexKind : std::uint8_t { kCamera, kEmitter, kSurface };
 
+// The small members first, so that the vertex fills two cache lines (128 bytes) exactly.
 struct PathVertex {
   VertexKind kind = VertexKind::kSurface;
+  bool delta = false;        // specular scattering here
+  bool point_light = false;  // an emitter vertex that is a point light (a delta position)
+  std::uint32_t triangle = 0;
   Vec3 position = {};
   Vec3 normal = {};       // geometric normal; zero at the camera and at a point light
   Vec3 to_previous = {};  // unit direction to the previous vertex of its subpath
-  std::uint32_t triangle = 0;
-  Rgb beta = {};  // subpath throughput up to this vertex
+  Rgb beta = {};          // subpath throughput up to this vertex
   double pdf_fwd = 0.0;
   double pdf_rev = 0.0;
-  bool delta = false;        // specular scattering here
-  bool point_light = false;  // an emitter vertex that is a point light (a delta position)
+  // The balance heuristic's sum over the strategies whose join lies before this vertex in its
+  // own subpath, relative to the one that joins right after it, which makes a weight's cost
+  // independent of the path's length (store_camera_weight_sums in connection.h); NaN until
+  // stored, and a weight then loops over the subpath.
+  double weight_sum = std::numeric_limits<double>::quiet_NaN();
 };
+static_assert(sizeof(PathVertex) == 128);
 
 // Work the walks and the connections did, summed into the report's counters.
 struct TraceCounters {

@@ -118,6 +118,7 @@ void RenderServices::trace_pool(std::uint32_t index, std::uint32_t m, LightPool&
       if (walk) lanes.lanes.push_back({*walk, &rng, &pool.paths[j]});
     }
     walk_lanes(scene_, lanes.lanes, lanes.buffers, chunk_counters[c].light_rays);
+    for (std::uint32_t j = first; j < end; ++j) store_light_weight_sums(pool.paths[j], counts_);
   });
   for (const TraceCounters& c : chunk_counters) counters.add(c);
 }
@@ -205,6 +206,7 @@ void RenderServices::walk_camera_row(std::uint32_t index, std::uint32_t y, Camer
     row.lanes.push_back({walk, &rng, &row.paths[x]});
   }
   walk_lanes(scene_, row.lanes, row.buffers, counters.camera_rays);
+  for (Subpath& path : row.paths) store_camera_weight_sums(path, counts_);
 }
 
 void RenderServices::camera_pass(std::uint32_t index, Image& sum, TraceCounters& counters,
