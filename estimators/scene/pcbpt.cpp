@@ -40,10 +40,11 @@
 // (guide=first).
 #include "estimators/scene/pcbpt.h"
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -52,28 +53,14 @@
 #include "estimators/resampling_step.h"
 #include "estimators/scene/cache_mixture.h"
 #include "estimators/scene/cache_points.h"
+#include "estimators/scene/light_importance_lanes.h"
 #include "estimators/scene/resampling_counts.h"
 #include "estimators/scene/vertex_draws.h"
-#include "integrands/scenes/bsdf.h"
 #include "integrands/scenes/path_vertex.h"
 
 namespace pcbench {
 namespace scene {
 namespace {
-
-// β(x) f(x → y) G(x, y), largest channel: the light subpath's contribution towards y without
-// y's BSDF (0 for a specular x, which no connection uses).
-double light_importance(const Scene& scene, const PathVertex& x, const PathVertex& y) {
-  if (x.delta) return 0.0;
-  const Vec3 d = y.position - x.position;
-  const double distance_squared = dot(d, d);
-  if (distance_squared == 0.0) return 0.0;
-  const Vec3 w = d * (1.0 / std::sqrt(distance_squared));
-  const Rgb f = x.kind == VertexKind::kEmitter
-                    ? emitted_towards(scene, x, w)
-                    : bsdf_value(scene.material(x.triangle), x.normal, x.to_previous, w).f;
-  return (x.beta * f).max_channel() * (abs_cos_at(x, w) * abs_cos_at(y, w) / distance_squared);
-}
 
 class ProbabilisticPass final : public ScenePass {
  public:
@@ -103,6 +90,7 @@ class ProbabilisticPass final : public ScenePass {
     if (config_.nee_fresh) {
       std::erase_if(vertices_, [](const LightVertexRef& v) { return v.count == 1; });
     }
+    candidates_.assign(services_.scene(), pool, vertices_);
     if (config_.lookup != PcbptConfig::Lookup::kExact) build_distributions(pool, counters);
   }
 
@@ -179,8 +167,9 @@ class ProbabilisticPass final : public ScenePass {
     const CachePoint here{.camera = Subpath(prefix.vertices.begin(), prefix.vertices.end()),
                           .depth = prefix.t() - 1};
     CacheDistribution own;
-    std::vector<double> q(vertices_.size(), 0.0);
-    importance_at(pool, here, q, prefix.counters);
+    ImportanceScratch& scratch = scratch_.local();
+    importance_at(pool, here, scratch, prefix.counters);
+    const std::vector<double>& q = scratch.importances.q;
     double total = 0.0;
     for (double w : q) total += w;
     if (total > 0.0) {
@@ -224,39 +213,60 @@ class ProbabilisticPass final : public ScenePass {
     }
   }
 
-  // q_c(i) for every candidate at cache point c; the shadow rays are counted as connect()
-  // counts its own (skipped in a convex enclosure, where nothing is occluded). The rays of the
-  // candidates with q > 0 share their end at c and are traced together as Embree packets
-  // (Scene::occluded_many): one at a time they were a third of pcbpt's rays.
-  void importance_at(const LightPool& pool, const CachePoint& cache, std::vector<double>& q,
-                     TraceCounters& counters) const {
-    const Scene& scene = services_.scene();
-    const ConnectOptions unoccluded{
-        .visibility = false, .weighted = config_.importance == PcbptConfig::Importance::kWeighted};
-    const bool traces = config_.cache_visibility && !scene.traits().convex_enclosure;
+  // A table's working space, one per thread, kept from one cache point and one iteration to the
+  // next: allocated per cache point, its shadow rays alone were 200 KB at M = 1024, and freeing
+  // them and faulting their pages in again was 8% of the published design's run.
+  struct ImportanceScratch {
+    LightImportances importances;  // q_c(i) in importances.q
     std::vector<Scene::ShadowRay> rays;
     std::vector<std::uint32_t> ray_of;  // the candidate each ray decides
+    std::vector<std::uint8_t> blocked;
+  };
+
+  // q_c(i) for every candidate at cache point c, into scratch.importances.q; the shadow rays are
+  // counted as connect() counts its own (skipped in a convex enclosure, where nothing is
+  // occluded). The rays of the candidates with q > 0 share their end at c and are traced together
+  // as Embree packets (Scene::occluded_many): one at a time they were a third of pcbpt's rays.
+  void importance_at(const LightPool& pool, const CachePoint& cache, ImportanceScratch& scratch,
+                     TraceCounters& counters) const {
+    const Scene& scene = services_.scene();
+    // The light importance and every candidate's segment, in lanes (light_importance_lanes.h);
+    // the other importances replace q with the connection's value.
+    LightImportances& at = scratch.importances;
+    candidates_.at(scene, cache.vertex(), at);
+    std::vector<double>& q = at.q;
+    if (config_.importance != PcbptConfig::Importance::kLight) {
+      const ConnectOptions unoccluded{
+          .visibility = false,
+          .weighted = config_.importance == PcbptConfig::Importance::kWeighted};
+      for (std::uint32_t i = 0; i < q.size(); ++i) {
+        q[i] =
+            services_.connect(light_prefix(pool, vertices_[i]), cache.camera, unoccluded, counters)
+                .max_channel();
+      }
+    }
+    if (!config_.cache_visibility) return;
+    const bool traces = !scene.traits().convex_enclosure;
+    scratch.rays.clear();
+    scratch.ray_of.clear();
     for (std::uint32_t i = 0; i < q.size(); ++i) {
-      const std::span<const PathVertex> light = light_prefix(pool, vertices_[i]);
-      q[i] = config_.importance == PcbptConfig::Importance::kLight
-                 ? light_importance(scene, light.back(), cache.vertex())
-                 : services_.connect(light, cache.camera, unoccluded, counters).max_channel();
-      if (!(q[i] > 0.0) || !config_.cache_visibility) continue;
+      if (!(q[i] > 0.0)) continue;
       if (!traces) {
         ++counters.skipped_convex;
         continue;
       }
-      rays.push_back(scene.shadow_ray(light.back().position, cache.vertex().position));
-      ray_of.push_back(i);
+      scratch.rays.push_back(scene.shadow_ray(candidates_.position(i), cache.vertex().position,
+                                              at.distance_squared[i], at.distance[i]));
+      scratch.ray_of.push_back(i);
     }
-    if (rays.empty()) return;
-    std::vector<std::uint8_t> blocked(rays.size());
-    scene.occluded_many(rays, blocked);
-    counters.shadow_rays += rays.size();
-    for (std::size_t k = 0; k < rays.size(); ++k) {
-      if (!blocked[k]) continue;
+    if (scratch.rays.empty()) return;
+    scratch.blocked.resize(scratch.rays.size());
+    scene.occluded_many(scratch.rays, scratch.blocked);
+    counters.shadow_rays += scratch.rays.size();
+    for (std::size_t k = 0; k < scratch.rays.size(); ++k) {
+      if (!scratch.blocked[k]) continue;
       ++counters.occluded;
-      q[ray_of[k]] *= config_.visibility_floor;
+      q[scratch.ray_of[k]] *= config_.visibility_floor;
     }
   }
 
@@ -264,7 +274,10 @@ class ProbabilisticPass final : public ScenePass {
     const std::span<const CachePoint> points = caches_.points();
     const std::size_t caches = points.size();
     const auto n = static_cast<std::uint32_t>(vertices_.size());
-    caches_at_.assign(caches, {});
+    // The tables of the last iteration keep their memory: only their P is cleared (a cache point
+    // without one counts as uniform).
+    caches_at_.resize(caches);
+    for (CacheDistribution& c : caches_at_) c.pmf.clear();
     totals_.assign(caches, 0.0);
     if (n == 0) return;
     // lookup=tile mixes the uniform share into each P; the nearest lookup mixes at draw time.
@@ -276,19 +289,26 @@ class ProbabilisticPass final : public ScenePass {
                    .uniform_mix = config_.nearest_lookup() ? 0.0 : config_.uniform_mix,
                    .sampler = DiscreteSamplerKind::kAlias});
     std::vector<TraceCounters> cache_counters(caches);
-    tbb::parallel_for(std::size_t{0}, caches, [&](std::size_t c) {
-      std::vector<double> q(n, 0.0);
-      if (!points[c].camera.empty()) importance_at(pool, points[c], q, cache_counters[c]);
-      double total = 0.0;
-      for (double w : q) total += w;
-      totals_[c] = total;
-      if (total == 0.0) {
-        // The nearest lookup counts it as uniform; lookup=tile mixes zero with uniform, except in
-        // the control, whose tile then draws nothing (its bias).
-        if (config_.nearest_lookup() || unseen_draw_nothing_) return;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, caches), [&](const auto& range) {
+      ImportanceScratch& scratch = scratch_.local();
+      for (std::size_t c = range.begin(); c != range.end(); ++c) {
+        std::vector<double>& q = scratch.importances.q;
+        if (points[c].camera.empty()) {
+          q.assign(n, 0.0);
+        } else {
+          importance_at(pool, points[c], scratch, cache_counters[c]);
+        }
+        double total = 0.0;
+        for (double w : q) total += w;
+        totals_[c] = total;
+        if (total == 0.0) {
+          // The nearest lookup counts it as uniform; lookup=tile mixes zero with uniform, except
+          // in the control, whose tile then draws nothing (its bias).
+          if (config_.nearest_lookup() || unseen_draw_nothing_) continue;
+        }
+        step.build_pmf(PoolView{.importance = q}, caches_at_[c].pmf);
+        caches_at_[c].sampler.build(caches_at_[c].pmf, DiscreteSamplerKind::kAlias);
       }
-      step.build_pmf(PoolView{.importance = q}, caches_at_[c].pmf);
-      caches_at_[c].sampler.build(caches_at_[c].pmf, DiscreteSamplerKind::kAlias);
     });
     for (const TraceCounters& c : cache_counters) counters.add(c);
   }
@@ -301,6 +321,8 @@ class ProbabilisticPass final : public ScenePass {
   // Per iteration: the candidates and, per cache point, P over them and its sampler (none when it
   // sees nothing, except under lookup=tile, which mixes zero with uniform).
   std::vector<LightVertexRef> vertices_;
+  LightImportanceLanes candidates_;  // their terms of the light importance
+  mutable tbb::enumerable_thread_specific<ImportanceScratch> scratch_;
   std::vector<CacheDistribution> caches_at_;
   // mis=resampling: the counts, and Σ_i q_c(i) per cache point of the latest tables.
   std::optional<ResamplingCounts> resampling_counts_;
