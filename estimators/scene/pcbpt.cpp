@@ -214,8 +214,8 @@ class ProbabilisticPass final : public ScenePass {
   }
 
   // A table's working space, one per thread, kept from one cache point and one iteration to the
-  // next: allocated per cache point, its shadow rays alone were 200 KB at M = 1024, and freeing
-  // them and faulting their pages in again was 8% of the published design's run.
+  // next: allocated per cache point, its shadow rays alone were up to 320 KB at M = 1024, and
+  // freeing them and faulting their pages in again was 8% of the published design's run.
   struct ImportanceScratch {
     LightImportances importances;  // q_c(i) in importances.q
     std::vector<Scene::ShadowRay> rays;
