@@ -23,27 +23,40 @@ void DiscreteSampler::build(std::span<const double> pmf, DiscreteSamplerKind kin
   double total = 0.0;
   for (double p : pmf) total += p;
   columns_.resize(m);
-  small_.clear();
-  large_.clear();
+  small_.resize(m);
+  large_.resize(m);
   const double scale = static_cast<double>(m) / total;
+  // The two work lists as stacks over arrays of m with their sizes in locals: as vectors, each
+  // push and pop stored the vector's end back to the sampler and the next step read it again, a
+  // chain through memory on every step (pcbpt builds a table per cache point and iteration).
+  Column* columns = columns_.data();
+  std::uint32_t* small = small_.data();
+  std::uint32_t* large = large_.data();
+  std::uint32_t smalls = 0, larges = 0;
   for (std::uint32_t i = 0; i < m; ++i) {
-    columns_[i] = {.threshold = pmf[i] * scale, .alias = i};
-    (columns_[i].threshold < 1.0 ? small_ : large_).push_back(i);
+    const double threshold = pmf[i] * scale;
+    columns[i] = {.threshold = threshold, .alias = i};
+    // Written to both lists and counted in one, without a branch on which: random data would
+    // mispredict it.
+    const bool is_small = threshold < 1.0;
+    small[smalls] = i;
+    large[larges] = i;
+    smalls += is_small ? 1 : 0;
+    larges += is_small ? 0 : 1;
   }
-  while (!small_.empty() && !large_.empty()) {
-    const std::uint32_t s = small_.back();
-    small_.pop_back();
-    const std::uint32_t l = large_.back();
-    columns_[s].alias = l;
-    columns_[l].threshold -= 1.0 - columns_[s].threshold;
-    if (columns_[l].threshold < 1.0) {
-      large_.pop_back();
-      small_.push_back(l);
+  while (smalls > 0 && larges > 0) {
+    const std::uint32_t s = small[--smalls];
+    const std::uint32_t l = large[larges - 1];
+    columns[s].alias = l;
+    columns[l].threshold -= 1.0 - columns[s].threshold;
+    if (columns[l].threshold < 1.0) {
+      --larges;
+      small[smalls++] = l;
     }
   }
   // What is left is full up to rounding: keep it always.
-  for (std::uint32_t i : small_) columns_[i].threshold = 1.0;
-  for (std::uint32_t i : large_) columns_[i].threshold = 1.0;
+  for (std::uint32_t k = 0; k < smalls; ++k) columns[small[k]].threshold = 1.0;
+  for (std::uint32_t k = 0; k < larges; ++k) columns[large[k]].threshold = 1.0;
 }
 
 std::vector<double> DiscreteSampler::alias_probabilities() const {

@@ -4,6 +4,8 @@
 
 #include <boost/math/distributions/chi_squared.hpp>
 
+#include "base/discrete_sampler.h"
+#include "base/rng.h"
 #include "estimators/resampling.h"
 #include "harness/plan/plan.h"
 #include "harness/run/runner.h"
@@ -179,6 +181,70 @@ TEST(ResamplingSampler, DrawsFollowThePmf) {
     }
     const boost::math::chi_squared chi2(cells - 1);
     EXPECT_GT(boost::math::cdf(boost::math::complement(chi2, statistic)), 1e-6);
+  }
+}
+
+// The alias table is Vose's pairing, column for column: against the textbook form (work lists as
+// vectors, the under-full column popped from the back and paired with the last over-full one),
+// every pick over a fine grid of u and every implied probability are the same to the bit, for
+// pools with zeros, ties and heavy tails. pcbpt's draws, and so its images, depend on the exact
+// table (ctest estimators.hashes checks them whole).
+TEST(ResamplingSampler, AliasTableIsVosesPairing) {
+  struct Column {
+    double threshold;
+    std::uint32_t alias;
+  };
+  auto textbook = [](const std::vector<double>& pmf) {
+    const auto m = static_cast<std::uint32_t>(pmf.size());
+    double total = 0.0;
+    for (double p : pmf) total += p;
+    std::vector<Column> columns(m);
+    std::vector<std::uint32_t> small, large;
+    for (std::uint32_t i = 0; i < m; ++i) {
+      columns[i] = {pmf[i] * (static_cast<double>(m) / total), i};
+      (columns[i].threshold < 1.0 ? small : large).push_back(i);
+    }
+    while (!small.empty() && !large.empty()) {
+      const std::uint32_t s = small.back();
+      small.pop_back();
+      const std::uint32_t l = large.back();
+      columns[l].threshold -= 1.0 - columns[s].threshold;
+      columns[s].alias = l;
+      if (columns[l].threshold < 1.0) {
+        large.pop_back();
+        small.push_back(l);
+      }
+    }
+    for (std::uint32_t i : small) columns[i].threshold = 1.0;
+    for (std::uint32_t i : large) columns[i].threshold = 1.0;
+    return columns;
+  };
+  RandomStream rng({.key = 0xa11a5});
+  for (const std::uint32_t m : {1u, 2u, 7u, 64u, 1000u}) {
+    for (int shape = 0; shape < 3; ++shape) {
+      std::vector<double> pmf(m);
+      for (double& p : pmf) {
+        const double u = rng.uniform();
+        p = shape == 0 ? u : shape == 1 ? (u < 0.3 ? 0.0 : 0.5) : 1.0 / (1e-6 + u * u * u);
+      }
+      if (shape == 1) pmf[0] = 1.0;  // at least one nonzero
+      DiscreteSampler sampler;
+      sampler.build(pmf, DiscreteSamplerKind::kAlias);
+      const std::vector<Column> want = textbook(pmf);
+      std::vector<double> implied(m, 0.0);
+      for (std::uint32_t i = 0; i < m; ++i) {
+        implied[i] += want[i].threshold / m;
+        implied[want[i].alias] += (1.0 - want[i].threshold) / m;
+      }
+      EXPECT_EQ(sampler.alias_probabilities(), implied) << "m " << m << " shape " << shape;
+      for (std::uint32_t j = 0; j < 64 * m; ++j) {
+        const double u = (j + 0.5) / (64.0 * m);
+        const auto i = static_cast<std::uint32_t>(u * m);
+        const std::uint32_t expected =
+            u * m - static_cast<double>(i) < want[i].threshold ? i : want[i].alias;
+        ASSERT_EQ(sampler.pick(u), expected) << "m " << m << " shape " << shape << " u " << u;
+      }
+    }
   }
 }
 
