@@ -30,25 +30,36 @@ struct Candidates {
 // AVX-512, AVX2 and SSE2 (the widest the machine has, chosen at run time), without contraction
 // and without errno (CMakeLists.txt), so each lane rounds as the scalar code does.
 [[gnu::target_clones("avx512f", "avx2", "default")]] void weigh(
-    const Candidates& c, std::size_t n, const Vec3& end, const Vec3& end_normal, bool end_cos_one,
-    double* q, double* distance_squared_out, double* distance_out) {
+    const Candidates& c, std::size_t n, Vec3 end, Vec3 end_normal, bool end_cos_one,
+    double* __restrict q, double* __restrict distance_squared, double* __restrict distance) {
+  // The arrays apart from each other and from the end (taken by value), so that the loop needs
+  // no alias checks: without them GCC reloaded the end every step and kept the loop scalar.
+  const double* __restrict x = c.x;
+  const double* __restrict y = c.y;
+  const double* __restrict z = c.z;
+  const double* __restrict nx = c.nx;
+  const double* __restrict ny = c.ny;
+  const double* __restrict nz = c.nz;
+  const double* __restrict weight = c.weight;
+  const double* __restrict point_light = c.point_light;
+  const double* __restrict lanes = c.lanes;
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 d{end.x - c.x[i], end.y - c.y[i], end.z - c.z[i]};
-    const double distance_squared = dot(d, d);
-    const double distance = std::sqrt(distance_squared);
-    const Vec3 w = d * (1.0 / distance);
+    const Vec3 d{end.x - x[i], end.y - y[i], end.z - z[i]};
+    const double d2 = dot(d, d);
+    const double length = std::sqrt(d2);
+    const Vec3 w = d * (1.0 / length);
     // The side the candidate lights: a Lambertian surface's facing normal (|cos| is the same for
     // either sign of the normal), a triangle emitter's own; a point light lights every side.
-    const double cos_at_x = c.nx[i] * w.x + c.ny[i] * w.y + c.nz[i] * w.z;
-    const bool point_light = c.point_light[i] != 0.0;
-    const double cos_x = lane_select(point_light, 1.0, std::abs(cos_at_x));
+    const double cos_at_x = nx[i] * w.x + ny[i] * w.y + nz[i] * w.z;
+    const bool point = point_light[i] != 0.0;
+    const double cos_x = lane_select(point, 1.0, std::abs(cos_at_x));
     const double cos_y = lane_select(end_cos_one, 1.0, std::abs(dot(end_normal, w)));
-    const bool lit = point_light | (cos_at_x > 0.0);
-    const double value = lane_select(lit, c.weight[i], 0.0) * (cos_x * cos_y / distance_squared);
-    const bool keep = (c.lanes[i] != 0.0) & (distance_squared != 0.0);
+    const bool lit = point | (cos_at_x > 0.0);
+    const double value = lane_select(lit, weight[i], 0.0) * (cos_x * cos_y / d2);
+    const bool keep = (lanes[i] != 0.0) & (d2 != 0.0);
     q[i] = lane_select(keep, value, 0.0);
-    distance_squared_out[i] = distance_squared;
-    distance_out[i] = distance;
+    distance_squared[i] = d2;
+    distance[i] = length;
   }
 }
 
