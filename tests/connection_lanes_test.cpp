@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <cstring>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -27,10 +26,6 @@ namespace pcbench::scene {
 namespace {
 
 constexpr std::uint32_t kResolution = 12;
-
-bool same_bits(double a, double b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
 
 class ConnectionLanesOn : public ::testing::TestWithParam<std::string> {};
 
@@ -94,12 +89,12 @@ TEST_P(ConnectionLanesOn, ValuesWeightsAndCountersAreConnectsAndMisWeights) {
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       const Rgb want = connect(scene, pairs[i].light, pairs[i].camera, counts,
                                {.visibility = false, .weighted = false}, reference);
-      ASSERT_TRUE(same_bits(values[i].r, want.r) && same_bits(values[i].g, want.g) &&
-                  same_bits(values[i].b, want.b))
+      ASSERT_TRUE(bit_identical(values[i].r, want.r) && bit_identical(values[i].g, want.g) &&
+                  bit_identical(values[i].b, want.b))
           << "pair " << i << " t " << pairs[i].camera.size();
       if (want.is_black()) continue;
       const double w = mis_weight(scene, pairs[i].light, pairs[i].camera, counts);
-      ASSERT_TRUE(same_bits(weights[i], w)) << "pair " << i << ": " << weights[i] << " " << w;
+      ASSERT_TRUE(bit_identical(weights[i], w)) << "pair " << i << ": " << weights[i] << " " << w;
       ++weighed;
     }
     EXPECT_EQ(batch.connections, reference.connections);
@@ -151,8 +146,8 @@ TEST_P(ConnectionLanesOn, ConnectionValuesAreConnects) {
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       const Rgb want = connect(scene, pairs[i].light, pairs[i].camera, counts,
                                {.visibility = false, .weighted = false}, reference);
-      ASSERT_TRUE(same_bits(values[i].r, want.r) && same_bits(values[i].g, want.g) &&
-                  same_bits(values[i].b, want.b))
+      ASSERT_TRUE(bit_identical(values[i].r, want.r) && bit_identical(values[i].g, want.g) &&
+                  bit_identical(values[i].b, want.b))
           << "pair " << i << " s " << pairs[i].light.size() << " t " << pairs[i].camera.size()
           << ": " << values[i].r << " " << want.r;
       if (!want.is_black()) ++nonzero;
@@ -189,14 +184,14 @@ TEST_P(ConnectionLanesOn, LightTracingValuesAreConnects) {
       std::optional<PixelPosition> want_pixel;
       const Rgb want = connect(scene, pairs[i].light, pairs[i].camera, counts,
                                {.visibility = false, .weighted = false}, reference, &want_pixel);
-      ASSERT_TRUE(same_bits(values[i].r, want.r) && same_bits(values[i].g, want.g) &&
-                  same_bits(values[i].b, want.b))
+      ASSERT_TRUE(bit_identical(values[i].r, want.r) && bit_identical(values[i].g, want.g) &&
+                  bit_identical(values[i].b, want.b))
           << "pair " << i << " s " << pairs[i].light.size() << ": " << values[i].r << " " << want.r;
       ASSERT_EQ(pixels[i].has_value(), want_pixel.has_value()) << "pair " << i;
       if (want_pixel) {
         ASSERT_EQ(pixels[i]->x, want_pixel->x);
         ASSERT_EQ(pixels[i]->y, want_pixel->y);
-        ASSERT_TRUE(same_bits(pixels[i]->cos_theta, want_pixel->cos_theta));
+        ASSERT_TRUE(bit_identical(pixels[i]->cos_theta, want_pixel->cos_theta));
         ++landed;
       }
       if (!want.is_black()) ++nonzero;
@@ -248,8 +243,8 @@ TEST_P(ConnectionLanesOn, QueuedEmitterSamplesAreSampledVertices) {
         for (std::uint32_t i = prefix.first; i < prefix.end; ++i) {
           const Rgb& got = sampled.value(i);
           const Rgb& want = made.value(i);
-          ASSERT_TRUE(same_bits(got.r, want.r) && same_bits(got.g, want.g) &&
-                      same_bits(got.b, want.b))
+          ASSERT_TRUE(bit_identical(got.r, want.r) && bit_identical(got.g, want.g) &&
+                      bit_identical(got.b, want.b))
               << "request " << i << (mixed ? ", mixed" : "");
           ASSERT_EQ(sampled.strategy(i), made.strategy(i));
           if (!want.is_black()) ++nonzero;
@@ -300,9 +295,10 @@ TEST(ConnectionQueueSum, SubtotalAddsItsGroupFirst) {
     const Rgb& c = queue.value(prefix.first + 2);
     const Rgb want = a + (b + c), left_first = (a + b) + c;
     const Rgb got = queue.sum(prefix);
-    ASSERT_TRUE(same_bits(got.r, want.r) && same_bits(got.g, want.g) && same_bits(got.b, want.b));
-    if (!same_bits(left_first.r, want.r) || !same_bits(left_first.g, want.g) ||
-        !same_bits(left_first.b, want.b)) {
+    ASSERT_TRUE(bit_identical(got.r, want.r) && bit_identical(got.g, want.g) &&
+                bit_identical(got.b, want.b));
+    if (!bit_identical(left_first.r, want.r) || !bit_identical(left_first.g, want.g) ||
+        !bit_identical(left_first.b, want.b)) {
       ++order_matters;
     }
   }

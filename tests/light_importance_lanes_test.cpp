@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -23,10 +22,6 @@ namespace pcbench::scene {
 namespace {
 
 constexpr std::uint32_t kPaths = 48;
-
-bool same_bits(double a, double b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
 
 class LightImportanceLanesOn : public ::testing::TestWithParam<std::string> {};
 
@@ -60,16 +55,16 @@ TEST_P(LightImportanceLanesOn, ImportancesAreLightImportances) {
       for (std::size_t i = 0; i < vertices.size(); ++i) {
         const PathVertex& x = light_prefix(pool, vertices[i]).back();
         const double want = light_importance(scene, x, y);
-        ASSERT_TRUE(same_bits(at.q[i], want))
+        ASSERT_TRUE(bit_identical(at.q[i], want))
             << "candidate " << i << ": " << at.q[i] << " against " << want;
-        ASSERT_TRUE(same_bits(lanes.position(i).x, x.position.x) &&
-                    same_bits(lanes.position(i).y, x.position.y) &&
-                    same_bits(lanes.position(i).z, x.position.z));
+        ASSERT_TRUE(bit_identical(lanes.position(i).x, x.position.x) &&
+                    bit_identical(lanes.position(i).y, x.position.y) &&
+                    bit_identical(lanes.position(i).z, x.position.z));
         // The shadow ray from the lanes' segment is the one Scene::shadow_ray(x, y) sets up.
         const Scene::ShadowRay mine =
             scene.shadow_ray(lanes.position(i), y.position, at.distance_squared[i], at.distance[i]);
         const Scene::ShadowRay theirs = scene.shadow_ray(x.position, y.position);
-        ASSERT_TRUE(mine.empty == theirs.empty && same_bits(mine.margin, theirs.margin));
+        ASSERT_TRUE(mine.empty == theirs.empty && bit_identical(mine.margin, theirs.margin));
         positive += want > 0.0 ? 1 : 0;
         ++compared;
       }

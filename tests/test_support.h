@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -32,6 +33,12 @@ double chi_square_uniform_p_value(const std::vector<double>& counts);
 // holds; the degrees of freedom are the pooled groups less one.
 double chi_square_p_value(const std::vector<double>& observed,
                           const std::vector<double>& probabilities);
+
+// Whether two doubles have the same bits (a NaN equals only the same NaN; -0 differs from 0):
+// what "the same numbers to the bit" means in the lanes tests.
+inline bool bit_identical(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
 
 // A built-in scene's name as a parameterised test's name (gtest allows no '-').
 std::string scene_test_name(const ::testing::TestParamInfo<std::string>& info);
