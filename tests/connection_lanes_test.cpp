@@ -158,6 +158,59 @@ TEST_P(ConnectionLanesOn, ConnectionValuesAreConnects) {
   EXPECT_GT(nonzero, 100u);  // the comparison saw values, not only zeros
 }
 
+// connection_weights, the weights of a batch's unblocked connections with s >= 1 and t >= 2
+// (in lanes where the subpaths' sums are stored and the ends are Lambertian or an emitter),
+// against mis_weight() one at a time: every connection whose value is not 0, with the sums
+// stored for the counts (the renderer's case) and never stored (the weights then loop, as they do
+// under a count model), emitter and surface light ends, Phong and mirror vertices on the scenes
+// that have them; the same weights to the bit.
+TEST_P(ConnectionLanesOn, ConnectionWeightsAreMisWeights) {
+  const Scene scene = small_scene(GetParam());
+  std::size_t in_lanes = 0, weighed = 0;
+  for (const StrategyCounts counts :
+       {StrategyCounts{}, StrategyCounts{.light_tracing = 144.0},
+        StrategyCounts{.emitter_hit = 1.0, .next_event = 8.0, .connection = 8.0},
+        StrategyCounts{.next_event = 0.0}}) {
+    for (const bool stored : {true, false}) {
+      auto cameras = camera_paths(scene, 0xc0e2);
+      auto lights = light_paths(scene, 0xc0e2);
+      if (stored) {
+        for (auto& path : cameras) store_camera_weight_sums(path, counts);
+        for (auto& path : lights) store_light_weight_sums(path, counts);
+      }
+      std::vector<ConnectionPair> pairs;
+      std::vector<std::uint32_t> which;  // the pairs whose value is not 0
+      TraceCounters counters;
+      for (std::uint32_t p = 0; p < cameras.size(); ++p) {
+        const auto& light = lights[(p * 5) % lights.size()];
+        for (std::uint32_t s = 1; s <= light.size(); ++s) {
+          for (std::uint32_t t = 2; t <= cameras[p].size(); ++t) {
+            const ConnectionPair pair{std::span(light).first(s), std::span(cameras[p]).first(t)};
+            const Rgb value = connect(scene, pair.light, pair.camera, counts,
+                                      {.visibility = false, .weighted = false}, counters);
+            if (value.is_black()) continue;
+            which.push_back(static_cast<std::uint32_t>(pairs.size()));
+            pairs.push_back(pair);
+            in_lanes += weight_sums_stored(pair.light, pair.camera, counts) ? 1 : 0;
+          }
+        }
+      }
+      std::vector<double> weights(which.size());
+      connection_weights(scene, counts, pairs, which, weights);
+      for (std::size_t k = 0; k < which.size(); ++k) {
+        const ConnectionPair& pair = pairs[which[k]];
+        const double want = mis_weight(scene, pair.light, pair.camera, counts);
+        ASSERT_TRUE(bit_identical(weights[k], want))
+            << "pair " << which[k] << " s " << pair.light.size() << " t " << pair.camera.size()
+            << (stored ? ", sums stored: " : ": ") << weights[k] << " " << want;
+      }
+      weighed += which.size();
+    }
+  }
+  EXPECT_GT(weighed, 200u);  // the comparison saw weights, most from stored sums
+  EXPECT_GT(in_lanes, 100u);
+}
+
 // light_tracing_values, light tracing's values in lanes (every pool path's splats: BDPT's, lt's,
 // pcbpt's), against connect() with its pixel, one at a time: every prefix of a light subpath
 // from each pixel's stream joined to the camera, under counts with light tracing and without;

@@ -276,15 +276,19 @@ double weight_from_sums(std::span<const PathVertex> light, std::span<const PathV
 double balance_weight(const Scene& scene, std::span<const PathVertex> light,
                       std::span<const PathVertex> camera, const JoinDensities& join,
                       const StrategyCounts& counts) {
-  const std::size_t s = light.size(), t = camera.size();
-  const bool sums_stored = counts.model == nullptr &&
-                           (t < 3 || !std::isnan(camera[t - 3].weight_sum)) &&
-                           (s < 3 || !std::isnan(light[s - 3].weight_sum));
-  return sums_stored ? weight_from_sums(light, camera, join, counts)
-                     : weight_by_loop(scene, light, camera, join, counts);
+  return weight_sums_stored(light, camera, counts)
+             ? weight_from_sums(light, camera, join, counts)
+             : weight_by_loop(scene, light, camera, join, counts);
 }
 
 }  // namespace
+
+bool weight_sums_stored(std::span<const PathVertex> light, std::span<const PathVertex> camera,
+                        const StrategyCounts& counts) {
+  const std::size_t s = light.size(), t = camera.size();
+  return counts.model == nullptr && (t < 3 || !std::isnan(camera[t - 3].weight_sum)) &&
+         (s < 3 || !std::isnan(light[s - 3].weight_sum));
+}
 
 void store_camera_weight_sums(std::span<PathVertex> camera, const StrategyCounts& counts) {
   if (counts.model != nullptr || camera.empty()) return;

@@ -65,6 +65,11 @@ struct StrategyCounts {
 void store_camera_weight_sums(std::span<PathVertex> camera, const StrategyCounts& counts);
 void store_light_weight_sums(std::span<PathVertex> light, const StrategyCounts& counts);
 
+// Whether mis_weight() of strategy (s, t) takes the subpaths' stored sums (constant counts, and
+// the sums stored where the weight reads them) rather than looping over both subpaths.
+bool weight_sums_stored(std::span<const PathVertex> light, std::span<const PathVertex> camera,
+                        const StrategyCounts& counts);
+
 // Balance-heuristic weight of strategy (s, t) for the path light[0..s) + camera[0..t) reversed.
 double mis_weight(const Scene& scene, std::span<const PathVertex> light,
                   std::span<const PathVertex> camera, const StrategyCounts& counts);

@@ -12,8 +12,9 @@
 // which no path hits).
 //
 // Any other connection with s >= 1 (BDPT's, the light vertex cache's, pcbpt's draws, and light
-// tracing's splats, t = 1), its value alone: its weight needs the whole path and stays
-// mis_weight()'s, after the shadow ray, for the connections that are not blocked.
+// tracing's splats, t = 1), its value alone before the shadow ray; the weight needs both
+// subpaths and is computed after it, for the connections that are not blocked only (on door-ajar
+// nearly all are): connection_weights, in lanes where it can (t >= 2).
 //
 // The segments, emission and geometry terms, Lambertian ends' BSDFs and the next events' weights
 // run in lanes across the connections (any other BSDF through bsdf_value, one at a time), in
@@ -59,10 +60,18 @@ bool all_camera_surface_ends(std::span<const ConnectionPair> pairs);
 // For all_camera_surface_ends pairs under any counts: values[i], connect()'s unweighted,
 // unoccluded value of pairs[i], counting the work as connect() does. The segments, an emitter
 // or Lambertian light end's f and a Lambertian camera end's run in the same lanes as the next
-// events' (any other BSDF through bsdf_value, one at a time); the weight is mis_weight()'s.
+// events' (any other BSDF through bsdf_value, one at a time); the weight is connection_weights'.
 void connection_values(const Scene& scene, const StrategyCounts& counts,
                        std::span<const ConnectionPair> pairs, std::span<Rgb> values,
                        TraceCounters& counters);
+
+// For pairs with s >= 1 and t >= 2 whose values are not 0 (the unblocked connections of a
+// batch): weights[k], mis_weight() of pairs[which[k]] to the bit. In lanes where the weight comes
+// from the subpaths' stored sums and the ends are Lambertian surfaces or an emitter
+// (connection_weight_lanes.cpp), mis_weight() itself for any other pair.
+void connection_weights(const Scene& scene, const StrategyCounts& counts,
+                        std::span<const ConnectionPair> pairs, std::span<const std::uint32_t> which,
+                        std::span<double> weights);
 
 // Whether every pair is light tracing's: s >= 1 joined to the camera (t = 1).
 bool all_light_tracing(std::span<const ConnectionPair> pairs);

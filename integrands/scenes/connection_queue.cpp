@@ -89,18 +89,19 @@ void ConnectionQueue::begin_prefix(const CameraPrefix& prefix, bool adds_emitter
                        .end = first});
 }
 
-template <class Value, class Ends, class Weight>
+template <class Value, class Ends, class Weigh>
 void ConnectionBatch::trace_and_weigh_each(const Scene& scene, const Value& value, const Ends& ends,
-                                           const Weight& weight, std::span<Rgb> values,
+                                           const Weigh& weigh, std::span<Rgb> values,
                                            TraceCounters& counters) {
   shadows_.clear();
   shadowed_.clear();
+  unblocked_.clear();
   for (std::uint32_t i = 0; i < values.size(); ++i) {
     value(i);
     if (values[i].is_black()) continue;
     if (scene.traits().convex_enclosure) {
       ++counters.skipped_convex;
-      values[i] = values[i] * weight(i);
+      unblocked_.push_back(i);
       continue;
     }
     const auto [light_end, camera_end] = ends(i);
@@ -117,7 +118,12 @@ void ConnectionBatch::trace_and_weigh_each(const Scene& scene, const Value& valu
       values[i] = {};
       continue;
     }
-    values[i] = values[i] * weight(i);
+    unblocked_.push_back(i);
+  }
+  unblocked_weights_.resize(unblocked_.size());
+  weigh(std::span<const std::uint32_t>(unblocked_), std::span<double>(unblocked_weights_));
+  for (std::size_t k = 0; k < unblocked_.size(); ++k) {
+    values[unblocked_[k]] = values[unblocked_[k]] * unblocked_weights_[k];
   }
 }
 
@@ -128,7 +134,10 @@ void ConnectionBatch::trace_and_weigh(const Scene& scene, std::span<const Vec3> 
   trace_and_weigh_each(
       scene, [](std::uint32_t) {},
       [&](std::uint32_t i) { return std::pair(light_ends[i], camera_ends[i]); },
-      [&](std::uint32_t i) { return weights[i]; }, values, counters);
+      [&](std::span<const std::uint32_t> which, std::span<double> out) {
+        for (std::size_t k = 0; k < which.size(); ++k) out[k] = weights[which[k]];
+      },
+      values, counters);
 }
 
 void ConnectionBatch::connect_all(const Scene& scene, const StrategyCounts& counts,
@@ -163,9 +172,13 @@ void ConnectionBatch::connect_all(const Scene& scene, const StrategyCounts& coun
       [&](std::uint32_t i) {
         return std::pair(pairs[i].light.back().position, pairs[i].camera.back().position);
       },
-      [&](std::uint32_t i) {
-        return next_events ? weights_[i]
-                           : mis_weight(scene, pairs[i].light, pairs[i].camera, counts);
+      [&](std::span<const std::uint32_t> which, std::span<double> out) {
+        if (camera_side) return connection_weights(scene, counts, pairs, which, out);
+        for (std::size_t k = 0; k < which.size(); ++k) {
+          const std::uint32_t i = which[k];
+          out[k] = next_events ? weights_[i]
+                               : mis_weight(scene, pairs[i].light, pairs[i].camera, counts);
+        }
       },
       values, counters);
 }

@@ -5,7 +5,8 @@
 // connections of each prefix, pixel by pixel. Resolving the queue computes every connection's
 // unweighted, unoccluded value (connect() in connection.h without visibility or weight), traces
 // the shadow rays of those that are not black as Embree packets (Scene::occluded_many), and
-// weights the unblocked ones (mis_weight): the same value, counters and weight as connect()
+// weights the unblocked ones together (mis_weight's, connection_lanes.h): the same value,
+// counters and weight as connect()
 // one by one, so a pixel sums the same numbers in the same order. A request is recorded whole
 // in the strategy images, as RenderServices::connect_recorded records it.
 #pragma once
@@ -48,16 +49,19 @@ class ConnectionBatch {
 
  private:
   // The shadow rays and weights of connect_all and trace_and_weigh: value(i) sets values[i] if
-  // it is not set yet, ends(i) gives connection i's two positions, weight(i) its MIS weight
-  // (asked only of the values that are not 0).
-  template <class Value, class Ends, class Weight>
+  // it is not set yet, ends(i) gives connection i's two positions, weigh(which, weights) the MIS
+  // weights of the connections `which` lists together (those whose values are not 0 and whose
+  // shadow rays are not blocked), weights[k] for which[k].
+  template <class Value, class Ends, class Weigh>
   void trace_and_weigh_each(const Scene& scene, const Value& value, const Ends& ends,
-                            const Weight& weight, std::span<Rgb> values, TraceCounters& counters);
+                            const Weigh& weigh, std::span<Rgb> values, TraceCounters& counters);
 
   std::vector<double> weights_;  // connection_lanes.h's, when it computed the values
   std::vector<Scene::ShadowRay> shadows_;
   std::vector<std::uint32_t> shadowed_;  // the pair each shadow ray decides
   std::vector<std::uint8_t> blocked_;
+  std::vector<std::uint32_t> unblocked_;  // the connections to weigh
+  std::vector<double> unblocked_weights_;
 };
 
 class ConnectionQueue {
