@@ -17,23 +17,18 @@ constexpr std::uint32_t kDefaultLightPaths = 8;
 
 class VertexConnectionPass final : public scene::ScenePass {
  public:
-  explicit VertexConnectionPass(const scene::RenderServices& services) : services_(services) {}
-
-  scene::Rgb connections(const scene::LightPool& pool, scene::CameraPrefix& prefix) const override {
+  // Every vertex of every pool path, each connection times 1/M, queued: the row's shadow rays
+  // go to Embree as packets and their values and weights to SIMD lanes (connection_queue.h).
+  bool queues_connections() const override { return true; }
+  void queue_connections(const scene::LightPool& pool, scene::CameraPrefix& prefix,
+                         scene::ConnectionQueue& queue) const override {
     const double per_path = 1.0 / static_cast<double>(pool.paths.size());
-    scene::Rgb value;
     for (const scene::Subpath& path : pool.paths) {
       for (std::uint32_t s = 1; s <= std::min<std::uint32_t>(prefix.max_s, path.size()); ++s) {
-        const scene::Rgb v = services_.connect(std::span(path).first(s), prefix);
-        services_.record(s, prefix, v * per_path);
-        value += v;
+        queue.connect(std::span(path).first(s), prefix, per_path);
       }
     }
-    return value / static_cast<double>(pool.paths.size());
   }
-
- private:
-  const scene::RenderServices& services_;
 };
 
 class VertexConnection final : public scene::SceneEstimator {
@@ -45,9 +40,8 @@ class VertexConnection final : public scene::SceneEstimator {
     const double pool = pool_size(scene);
     return {.emitter_hit = 1.0, .next_event = pool, .connection = pool, .light_tracing = pool};
   }
-  std::unique_ptr<scene::ScenePass> begin_replicate(
-      const scene::RenderServices& services) const override {
-    return std::make_unique<VertexConnectionPass>(services);
+  std::unique_ptr<scene::ScenePass> begin_replicate(const scene::RenderServices&) const override {
+    return std::make_unique<VertexConnectionPass>();
   }
 
  private:
