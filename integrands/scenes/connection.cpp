@@ -283,13 +283,6 @@ double balance_weight(const Scene& scene, std::span<const PathVertex> light,
 
 }  // namespace
 
-bool weight_sums_stored(std::span<const PathVertex> light, std::span<const PathVertex> camera,
-                        const StrategyCounts& counts) {
-  const std::size_t s = light.size(), t = camera.size();
-  return counts.model == nullptr && (t < 3 || !std::isnan(camera[t - 3].weight_sum)) &&
-         (s < 3 || !std::isnan(light[s - 3].weight_sum));
-}
-
 void store_camera_weight_sums(std::span<PathVertex> camera, const StrategyCounts& counts) {
   if (counts.model != nullptr || camera.empty()) return;
   // y_0 is never a join's far side (t >= 1); y_m for 1 <= m <= n-3 has its final pdf_rev (the

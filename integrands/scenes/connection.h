@@ -10,6 +10,8 @@
 // stays independent of the pool (docs/guide/scenes.md, "MIS weights").
 #pragma once
 
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -67,8 +69,13 @@ void store_light_weight_sums(std::span<PathVertex> light, const StrategyCounts& 
 
 // Whether mis_weight() of strategy (s, t) takes the subpaths' stored sums (constant counts, and
 // the sums stored where the weight reads them) rather than looping over both subpaths.
-bool weight_sums_stored(std::span<const PathVertex> light, std::span<const PathVertex> camera,
-                        const StrategyCounts& counts);
+// Inline: connection_weights asks it of every connection it weighs.
+inline bool weight_sums_stored(std::span<const PathVertex> light,
+                               std::span<const PathVertex> camera, const StrategyCounts& counts) {
+  const std::size_t s = light.size(), t = camera.size();
+  return counts.model == nullptr && (t < 3 || !std::isnan(camera[t - 3].weight_sum)) &&
+         (s < 3 || !std::isnan(light[s - 3].weight_sum));
+}
 
 // Balance-heuristic weight of strategy (s, t) for the path light[0..s) + camera[0..t) reversed.
 double mis_weight(const Scene& scene, std::span<const PathVertex> light,
