@@ -18,8 +18,18 @@ namespace {
 
 constexpr std::size_t kChunk = 64;  // connections a pass of the lanes takes
 
-// A chunk's weights' inputs in structure-of-arrays form: x = x_{s-1}, y = y_{t-1}; "c_" the
-// camera side's terms beyond the join, "l_" the light side's, as weight_from_sums nests them.
+// One side's terms of weight_from_sums (connection.cpp) beyond the join, in lanes: the strategy
+// one vertex past the join (0 where a delta vertex rules it out) and the end's forward density;
+// whether there is a second level, and then the count of the strategy two vertices past the join
+// plus the stored sum beyond it, the predecessor's forward density, and |cos| at the predecessor
+// towards the end and its position (area_factor_to_previous).
+struct SideTerms {
+  double end[kChunk], end_fwd[kChunk];
+  double has_before[kChunk], before_sum[kChunk], before_fwd[kChunk];
+  double before_cos[kChunk], before_x[kChunk], before_y[kChunk], before_z[kChunk];
+};
+
+// A chunk's weights' inputs in structure-of-arrays form: x = x_{s-1}, y = y_{t-1}.
 struct WeightChunk {
   std::size_t size = 0;
   double x_x[kChunk], x_y[kChunk], x_z[kChunk];
@@ -33,17 +43,8 @@ struct WeightChunk {
   double yn_x[kChunk], yn_y[kChunk], yn_z[kChunk];  // y's normal
   double yf_x[kChunk], yf_y[kChunk], yf_z[kChunk];  // y's normal turned to wo
   double y_wo_cos[kChunk];
-  // y_{t-2} (t >= 3) and x_{s-2} (s >= 2): |cos| there towards the end's side and the position,
-  // for area_factor_to_previous.
-  double cp_cos[kChunk], cp_x[kChunk], cp_y[kChunk], cp_z[kChunk];
-  double lp_cos[kChunk], lp_x[kChunk], lp_y[kChunk], lp_z[kChunk];
-  // weight_from_sums' terms: the strategy one vertex past the join (0 where a delta vertex rules
-  // it out), whether there is a second level, its count plus the stored sum beyond it, and the
-  // forward densities the join's reverse ones are divided by.
-  double c_end[kChunk], c_has_before[kChunk], c_before_sum[kChunk];
-  double c_end_fwd[kChunk], c_before_fwd[kChunk];
-  double l_end[kChunk], l_has_before[kChunk], l_before_sum[kChunk];
-  double l_end_fwd[kChunk], l_before_fwd[kChunk];
+  SideTerms camera,
+      light;           // the camera side's terms beyond y_{t-1}, the light side's beyond x_{s-1}
   double own[kChunk];  // the strategy's own count
   double weight[kChunk];
 };
@@ -51,6 +52,19 @@ struct WeightChunk {
 // join_move_ratio (connection.cpp): a zero density stands for a delta step.
 [[gnu::always_inline]] inline double move_ratio(double pdf_rev, double pdf_fwd) {
   return lane_select(pdf_rev != 0.0, pdf_rev, 1.0) / lane_select(pdf_fwd != 0.0, pdf_fwd, 1.0);
+}
+
+// One side's share of weight_from_sums for lane j: the end at `end_position`, the join's density
+// there (`end_density`) and the end's reverse density towards its predecessor (`pdf_back`).
+[[gnu::always_inline]] inline double side_sum(const SideTerms& side, std::size_t j,
+                                              const Vec3& end_position, double end_density,
+                                              double pdf_back) {
+  const Vec3 to_before = Vec3{side.before_x[j], side.before_y[j], side.before_z[j]} - end_position;
+  const double before_density = pdf_back * (side.before_cos[j] / dot(to_before, to_before));
+  const double before =
+      lane_select(side.has_before[j] != 0.0,
+                  move_ratio(before_density, side.before_fwd[j]) * side.before_sum[j], 0.0);
+  return move_ratio(end_density, side.end_fwd[j]) * (side.end[j] + before);
 }
 
 // mis_weight()'s steps for lane j: segment_between, light_end_terms (emission_pdf, or a
@@ -82,20 +96,9 @@ struct WeightChunk {
 
     const double camera_end = x_pdf_along * cos_y * inv_distance_squared;
     const double light_end = y_pdf_along * cos_x * inv_distance_squared;
-    const Vec3 to_cp = Vec3{c.cp_x[j], c.cp_y[j], c.cp_z[j]} - y;
-    const double camera_before = y_pdf_back * (c.cp_cos[j] / dot(to_cp, to_cp));
-    const Vec3 to_lp = Vec3{c.lp_x[j], c.lp_y[j], c.lp_z[j]} - x;
-    const double light_before = x_pdf_back * (c.lp_cos[j] / dot(to_lp, to_lp));
-
-    const double c_before =
-        lane_select(c.c_has_before[j] != 0.0,
-                    move_ratio(camera_before, c.c_before_fwd[j]) * c.c_before_sum[j], 0.0);
-    const double l_before =
-        lane_select(c.l_has_before[j] != 0.0,
-                    move_ratio(light_before, c.l_before_fwd[j]) * c.l_before_sum[j], 0.0);
     double others = 0.0;
-    others += move_ratio(camera_end, c.c_end_fwd[j]) * (c.c_end[j] + c_before);
-    others += move_ratio(light_end, c.l_end_fwd[j]) * (c.l_end[j] + l_before);
+    others += side_sum(c.camera, j, y, camera_end, y_pdf_back);
+    others += side_sum(c.light, j, x, light_end, x_pdf_back);
     c.weight[j] = c.own[j] / (c.own[j] + others);
   }
 }
@@ -116,6 +119,24 @@ bool in_lanes(const Scene& scene, const StrategyCounts& counts, const Connection
          weight_sums_stored(pair.light, pair.camera, counts) &&
          (pair.light.back().kind == VertexKind::kEmitter || lambertian(scene, pair.light.back())) &&
          lambertian(scene, pair.camera.back());
+}
+
+// Lane j of one side's terms: `end` and the end vertex; `before`, its predecessor, when the
+// weight has a second level on this side, with `before_sum` the count and stored sum beyond it.
+void put_side(SideTerms& side, std::size_t j, double end, const PathVertex& end_vertex,
+              const PathVertex* before, double before_sum) {
+  side.end[j] = end;
+  side.end_fwd[j] = end_vertex.pdf_fwd;
+  side.has_before[j] = before != nullptr ? 1.0 : 0.0;
+  side.before_sum[j] = before_sum;
+  if (before == nullptr) {
+    side.before_fwd[j] = side.before_cos[j] = 0.0;
+    put(side.before_x, side.before_y, side.before_z, j, {});
+    return;
+  }
+  side.before_fwd[j] = before->pdf_fwd;
+  side.before_cos[j] = abs_cos_at(*before, end_vertex.to_previous);
+  put(side.before_x, side.before_y, side.before_z, j, before->position);
 }
 
 // Lane j's inputs from `pair` (in_lanes), weight_from_sums' terms as it forms them.
@@ -147,40 +168,28 @@ void gather(const StrategyCounts& counts, const ConnectionPair& pair, WeightChun
   c.y_wo_cos[j] = dot(facing, y.to_previous);
 
   // The camera side: strategies with t-1, t-2, ... camera vertices.
-  c.c_end[j] = camera[t - 2].delta ? 0.0 : count(k - (t - 1), t - 1);
-  c.c_end_fwd[j] = y.pdf_fwd;
-  c.c_has_before[j] = t >= 3 ? 1.0 : 0.0;
-  if (t >= 3) {
-    const PathVertex& before = camera[t - 2];
-    c.cp_cos[j] = abs_cos_at(before, y.to_previous);
-    put(c.cp_x, c.cp_y, c.cp_z, j, before.position);
-    const bool possible = !before.delta && !camera[t - 3].delta;
-    c.c_before_sum[j] = (possible ? count(k - (t - 2), t - 2) : 0.0) + camera[t - 3].weight_sum;
-    c.c_before_fwd[j] = before.pdf_fwd;
-  } else {
-    c.cp_cos[j] = c.cp_x[j] = c.cp_y[j] = c.cp_z[j] = 0.0;
-    c.c_before_sum[j] = c.c_before_fwd[j] = 0.0;
+  const PathVertex* camera_before = t >= 3 ? &camera[t - 2] : nullptr;
+  double camera_before_sum = 0.0;
+  if (camera_before != nullptr) {
+    const bool possible = !camera_before->delta && !camera[t - 3].delta;
+    camera_before_sum = (possible ? count(k - (t - 2), t - 2) : 0.0) + camera[t - 3].weight_sum;
   }
+  put_side(c.camera, j, camera[t - 2].delta ? 0.0 : count(k - (t - 1), t - 1), y, camera_before,
+           camera_before_sum);
 
-  // The light side: strategies with s-1, s-2, ... light vertices.
+  // The light side: strategies with s-1, s-2, ... light vertices (none after a point light).
   auto after_delta = [&](std::size_t i) {
     return i > 0 ? light[i - 1].delta : light[0].point_light;
   };
-  c.l_end[j] = after_delta(s - 1) ? 0.0 : count(s - 1, k - (s - 1));
-  c.l_end_fwd[j] = x.pdf_fwd;
-  c.l_has_before[j] = s >= 2 ? 1.0 : 0.0;
-  if (s >= 2) {
-    const PathVertex& before = light[s - 2];
-    c.lp_cos[j] = abs_cos_at(before, x.to_previous);
-    put(c.lp_x, c.lp_y, c.lp_z, j, before.position);
-    const bool possible = !before.delta && !after_delta(s - 2);
-    c.l_before_sum[j] =
+  const PathVertex* light_before = s >= 2 ? &light[s - 2] : nullptr;
+  double light_before_sum = 0.0;
+  if (light_before != nullptr) {
+    const bool possible = !light_before->delta && !after_delta(s - 2);
+    light_before_sum =
         (possible ? count(s - 2, k - (s - 2)) : 0.0) + (s >= 3 ? light[s - 3].weight_sum : 0.0);
-    c.l_before_fwd[j] = before.pdf_fwd;
-  } else {
-    c.lp_cos[j] = c.lp_x[j] = c.lp_y[j] = c.lp_z[j] = 0.0;
-    c.l_before_sum[j] = c.l_before_fwd[j] = 0.0;
   }
+  put_side(c.light, j, after_delta(s - 1) ? 0.0 : count(s - 1, k - (s - 1)), x, light_before,
+           light_before_sum);
   c.own[j] = count(s, t);
 }
 
