@@ -173,11 +173,15 @@ void ConnectionBatch::connect_all(const Scene& scene, const StrategyCounts& coun
         return std::pair(pairs[i].light.back().position, pairs[i].camera.back().position);
       },
       [&](std::span<const std::uint32_t> which, std::span<double> out) {
-        if (camera_side) return connection_weights(scene, counts, pairs, which, out);
-        for (std::size_t k = 0; k < which.size(); ++k) {
-          const std::uint32_t i = which[k];
-          out[k] = next_events ? weights_[i]
-                               : mis_weight(scene, pairs[i].light, pairs[i].camera, counts);
+        if (next_events) {  // weighed with their values
+          for (std::size_t k = 0; k < which.size(); ++k) out[k] = weights_[which[k]];
+        } else if (camera_side) {
+          connection_weights(scene, counts, pairs, which, out);
+        } else {
+          for (std::size_t k = 0; k < which.size(); ++k) {
+            const ConnectionPair& pair = pairs[which[k]];
+            out[k] = mis_weight(scene, pair.light, pair.camera, counts);
+          }
         }
       },
       values, counters);
