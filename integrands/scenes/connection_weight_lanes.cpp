@@ -2,7 +2,7 @@
 // connection_lanes.h): mis_weight()'s arithmetic for strategies with s >= 1 and t >= 2 whose
 // weight comes from the subpaths' stored sums (weight_from_sums in connection.cpp) and whose ends
 // are Lambertian surfaces or an emitter. One at a time, each weight recomputed the segment, took
-// both ends' BSDF densities through bsdf_value's switch and made seven divisions and a square root
+// both ends' BSDF densities through bsdf_value's switch and made eight divisions and a square root
 // in a row; here the gathers stay one at a time and the arithmetic runs across the connections.
 // The order of operations is mis_weight()'s, the file is built without contraction
 // (CMakeLists.txt), so the weights are its own to the bit (tests/connection_lanes_test.cpp).
@@ -43,8 +43,8 @@ struct WeightChunk {
   double yn_x[kChunk], yn_y[kChunk], yn_z[kChunk];  // y's normal
   double yf_x[kChunk], yf_y[kChunk], yf_z[kChunk];  // y's normal turned to wo
   double y_wo_cos[kChunk];
-  SideTerms camera,
-      light;           // the camera side's terms beyond y_{t-1}, the light side's beyond x_{s-1}
+  // The camera side's terms beyond y_{t-1}, the light side's beyond x_{s-1}.
+  SideTerms camera, light;
   double own[kChunk];  // the strategy's own count
   double weight[kChunk];
 };
