@@ -4,6 +4,7 @@
 
 #include "base/lane_select.h"
 #include "integrands/scenes/bsdf.h"
+#include "integrands/scenes/lane_vec3.h"
 #include "integrands/scenes/next_event_lane.h"
 
 namespace pcbench::scene {
@@ -166,10 +167,6 @@ bool all_next_events(std::span<const ConnectionPair> pairs) {
 }
 
 namespace {
-
-void put(double* x, double* y, double* z, std::size_t j, const Vec3& v) {
-  x[j] = v.x, y[j] = v.y, z[j] = v.z;
-}
 
 // `v`, or for a lane that does not connect a vertex whose every member is 0.
 const PathVertex& lane_vertex(const PathVertex& v, bool connects) {

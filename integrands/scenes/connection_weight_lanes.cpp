@@ -12,6 +12,7 @@
 #include "base/lane_select.h"
 #include "integrands/scenes/bsdf.h"
 #include "integrands/scenes/connection_lanes.h"
+#include "integrands/scenes/lane_vec3.h"
 
 namespace pcbench::scene {
 namespace {
@@ -101,10 +102,6 @@ struct WeightChunk {
     others += side_sum(c.light, j, x, light_end, x_pdf_back);
     c.weight[j] = c.own[j] / (c.own[j] + others);
   }
-}
-
-void put(double* x, double* y, double* z, std::size_t j, const Vec3& v) {
-  x[j] = v.x, y[j] = v.y, z[j] = v.z;
 }
 
 bool lambertian(const Scene& scene, const PathVertex& v) {
