@@ -88,7 +88,8 @@ class RenderServices {
                   TraceCounters& counters) const;
 
   // Light tracing: every prefix of every pool path connected to the camera (t = 1), weighted
-  // 1 / (pool size), added to `sum` and recorded as strategy (s, 1).
+  // 1 / (pool size), added to `sum` and recorded as strategy (s, 1). One call at a time: the
+  // chunks' splats are kept in storage the calls share.
   void splat(const LightPool& pool, Image& sum, TraceCounters& counters) const;
 
   // For every pixel (rows in parallel): traces its camera subpath of iteration `index` from
@@ -124,7 +125,8 @@ class RenderServices {
 
  private:
   struct CameraRow;  // a row's camera subpaths and their streams (render_services.cpp)
-  // Each thread's rows, light lanes and splat batches, kept from one iteration to the next.
+  // Each thread's rows, light lanes and splat batches, and splat()'s chunks of splats, kept from
+  // one iteration to the next.
   struct Scratch;
   // Walks row y's camera subpaths of iteration `index` in lanes.
   void walk_camera_row(std::uint32_t index, std::uint32_t y, CameraRow& row,
